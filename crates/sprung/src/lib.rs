@@ -1,1 +1,48 @@
-//! The sprung engine.
+//! # sprung: a mass-spring-damper engine for elastic materials
+//!
+//! Bodies are point masses ([`Particles`]) joined by damped springs
+//! ([`Springs`]). A [`World`] holds them together with the forces acting on
+//! them, the colliders they hit and the time integrator that moves them.
+//! The physics follows `PHYSICS.md` (the classic mass-spring-damper model of
+//! elastic materials); every quantity is in SI units (m, kg, s, N).
+//!
+//! The engine is pure: it reads no files and draws nothing. Scene files,
+//! meshes and exports live in `sprung-io`, the command line in `sprung-cli`.
+//!
+//! ```
+//! use sprung::{build, Vec3, World, IntegratorKind};
+//!
+//! let mut world = World::new(IntegratorKind::SymplecticEuler);
+//! world.settings.gravity = Vec3::new(0.0, -9.81, 0.0);
+//! let rope = build::rope(10, 2.0).expect("valid rope").with_stiffness(500.0);
+//! world.add_body("rope", rope).expect("valid body");
+//! for _ in 0..100 {
+//!     world.step(1e-3).expect("stable");
+//! }
+//! assert!(world.particles.position[9].y < -2.0); // stretched under gravity
+//! ```
+
+pub mod body;
+pub mod build;
+pub mod collide;
+pub mod error;
+pub mod forces;
+pub mod integrate;
+pub mod measure;
+pub mod particles;
+pub mod springs;
+pub mod world;
+
+/// The one real number type of the engine (SI units throughout).
+pub type Real = f64;
+/// A 3D vector of [`Real`]; 2D scenes use z = 0.
+pub type Vec3 = glam::DVec3;
+
+pub use body::{Body, BodyData, SpringData};
+pub use collide::{Collider, ContactResponse, Shape};
+pub use error::{BuildError, StepError};
+pub use integrate::IntegratorKind;
+pub use measure::Energies;
+pub use particles::Particles;
+pub use springs::Springs;
+pub use world::{Settings, World};

@@ -1,0 +1,333 @@
+//! Bodies: the description a builder or a scene gives ([`BodyData`], local
+//! indices, checked before use) and the body as the world stores it
+//! ([`Body`], ranges into the world's particle and spring arrays).
+
+use std::collections::HashMap;
+use std::ops::Range;
+
+use crate::error::BuildError;
+use crate::{Real, Vec3};
+
+/// One spring of a [`BodyData`], with particle indices local to the body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpringData {
+    /// First (parent) particle index.
+    pub first: usize,
+    /// Second (child) particle index.
+    pub second: usize,
+    /// Rest length (m); `None` means the distance at creation.
+    pub rest_length: Option<Real>,
+    /// Stiffness (N/m).
+    pub stiffness: Real,
+    /// Damping along the spring (N·s/m).
+    pub damping: Real,
+    /// Apply the force to the second particle only (PHYSICS.md §1).
+    pub one_sided: bool,
+}
+
+impl SpringData {
+    /// A spring between `first` and `second` at its creation length, with
+    /// zero stiffness and damping (set them with the body's `with_*`).
+    pub fn between(first: usize, second: usize) -> Self {
+        SpringData {
+            first,
+            second,
+            rest_length: None,
+            stiffness: 0.0,
+            damping: 0.0,
+            one_sided: false,
+        }
+    }
+}
+
+/// A body described particle by particle, before it joins a world.
+///
+/// Builders ([`crate::build`]) return one; scene files fill one in. Nothing
+/// is trusted: [`BodyData::validate`] (called by `World::add_body`) refuses
+/// bad masses, indices, duplicate or zero-length springs with a message
+/// naming the field.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BodyData {
+    /// Particle positions (m).
+    pub position: Vec<Vec3>,
+    /// Particle velocities (m/s): one per particle, or empty for all zero.
+    pub velocity: Vec<Vec3>,
+    /// Particle masses (kg): one per particle.
+    pub mass: Vec<Real>,
+    /// Indices of pinned particles (left out of integration).
+    pub pinned: Vec<usize>,
+    /// Springs between particles of this body.
+    pub springs: Vec<SpringData>,
+    /// Triangles (particle indices, counter-clockwise seen from outside) for
+    /// normals, wind, pressure and rendering; may be empty.
+    pub faces: Vec<[usize; 3]>,
+}
+
+impl BodyData {
+    /// A body with particles at `position` (m), each of mass 1 kg, at rest,
+    /// with no springs.
+    pub fn from_positions(position: Vec<Vec3>) -> Self {
+        let mass = vec![1.0; position.len()];
+        BodyData {
+            position,
+            mass,
+            ..Default::default()
+        }
+    }
+
+    /// Number of particles.
+    pub fn particle_count(&self) -> usize {
+        self.position.len()
+    }
+
+    /// Give every particle the mass `mass` (kg).
+    pub fn with_mass(mut self, mass: Real) -> Self {
+        self.mass = vec![mass; self.position.len()];
+        self
+    }
+
+    /// Share `total_mass` (kg) equally among the particles.
+    pub fn with_total_mass(self, total_mass: Real) -> Self {
+        let count = self.position.len().max(1) as Real;
+        self.with_mass(total_mass / count)
+    }
+
+    /// Give every spring the stiffness `stiffness` (N/m).
+    pub fn with_stiffness(mut self, stiffness: Real) -> Self {
+        self.springs
+            .iter_mut()
+            .for_each(|s| s.stiffness = stiffness);
+        self
+    }
+
+    /// Give every spring the damping `damping` (N·s/m).
+    pub fn with_damping(mut self, damping: Real) -> Self {
+        self.springs.iter_mut().for_each(|s| s.damping = damping);
+        self
+    }
+
+    /// Make every spring one-sided (or two-sided again).
+    pub fn with_one_sided(mut self, one_sided: bool) -> Self {
+        self.springs
+            .iter_mut()
+            .for_each(|s| s.one_sided = one_sided);
+        self
+    }
+
+    /// Pin the particles at `indices`.
+    pub fn with_pinned(mut self, indices: Vec<usize>) -> Self {
+        self.pinned = indices;
+        self
+    }
+
+    /// Give every particle the velocity `velocity` (m/s).
+    pub fn with_velocity(mut self, velocity: Vec3) -> Self {
+        self.velocity = vec![velocity; self.position.len()];
+        self
+    }
+
+    /// Place the body: scale by `scale` (uniform, about the origin), then
+    /// rotate by `rotate_degrees` about x, then y, then z, then translate
+    /// by `translate` (m). Explicit rest lengths scale too; velocities turn
+    /// with the rotation.
+    pub fn placed(mut self, scale: Real, rotate_degrees: Vec3, translate: Vec3) -> Self {
+        let rotation = glam::DQuat::from_rotation_z(rotate_degrees.z.to_radians())
+            * glam::DQuat::from_rotation_y(rotate_degrees.y.to_radians())
+            * glam::DQuat::from_rotation_x(rotate_degrees.x.to_radians());
+        for p in &mut self.position {
+            *p = rotation * (*p * scale) + translate;
+        }
+        for v in &mut self.velocity {
+            *v = rotation * *v;
+        }
+        for s in &mut self.springs {
+            if let Some(length) = s.rest_length.as_mut() {
+                *length *= scale;
+            }
+        }
+        self
+    }
+
+    /// Check everything a user could get wrong; the first problem found is
+    /// returned, naming the scene key and index.
+    pub fn validate(&self) -> Result<(), BuildError> {
+        let count = self.position.len();
+        if count == 0 {
+            return Err(BuildError::NoParticles);
+        }
+        self.validate_particles(count)?;
+        self.validate_springs(count)?;
+        self.validate_faces(count)
+    }
+
+    fn validate_particles(&self, count: usize) -> Result<(), BuildError> {
+        check_len("masses", self.mass.len(), count, "particles")?;
+        if !self.velocity.is_empty() {
+            check_len("velocities", self.velocity.len(), count, "particles")?;
+        }
+        for (index, p) in self.position.iter().enumerate() {
+            check_finite_vec("particles", index, *p)?;
+        }
+        for (index, v) in self.velocity.iter().enumerate() {
+            check_finite_vec("velocities", index, *v)?;
+        }
+        for (index, &m) in self.mass.iter().enumerate() {
+            if !(m.is_finite() && m > 0.0) {
+                return Err(BuildError::BadMass {
+                    field: "masses",
+                    index,
+                    value: m,
+                });
+            }
+        }
+        for (entry, &index) in self.pinned.iter().enumerate() {
+            if index >= count {
+                return Err(BuildError::PinnedOutOfRange {
+                    entry,
+                    index,
+                    particles: count,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_springs(&self, count: usize) -> Result<(), BuildError> {
+        let mut seen: HashMap<(usize, usize), usize> = HashMap::with_capacity(self.springs.len());
+        for (index, s) in self.springs.iter().enumerate() {
+            let (first, second) = (s.first, s.second);
+            if let Some(bad) = [first, second].into_iter().find(|&i| i >= count) {
+                return Err(BuildError::SpringIndexOutOfRange {
+                    spring: index,
+                    first,
+                    second,
+                    bad,
+                    particles: count,
+                });
+            }
+            if first == second {
+                return Err(BuildError::SelfSpring {
+                    spring: index,
+                    particle: first,
+                });
+            }
+            let key = (first.min(second), first.max(second));
+            if let Some(&earlier) = seen.get(&key) {
+                return Err(BuildError::DuplicateSpring {
+                    spring: index,
+                    earlier,
+                    first,
+                    second,
+                });
+            }
+            seen.insert(key, index);
+            for (field, value) in [("stiffness", s.stiffness), ("damping", s.damping)] {
+                if !value.is_finite() {
+                    return Err(BuildError::NotFinite {
+                        field,
+                        index,
+                        value,
+                    });
+                }
+                if value < 0.0 {
+                    return Err(BuildError::OutOfRange {
+                        field,
+                        value,
+                        reason: "must not be negative",
+                    });
+                }
+            }
+            let length = self.rest_length(s);
+            if !length.is_finite() {
+                return Err(BuildError::NotFinite {
+                    field: "rest_lengths",
+                    index,
+                    value: length,
+                });
+            }
+            if length <= 0.0 {
+                return Err(BuildError::ZeroLengthSpring {
+                    spring: index,
+                    first,
+                    second,
+                    length,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_faces(&self, count: usize) -> Result<(), BuildError> {
+        for (face, &indices) in self.faces.iter().enumerate() {
+            let reason = if indices.iter().any(|&i| i >= count) {
+                Some("particle index out of range")
+            } else if indices[0] == indices[1]
+                || indices[1] == indices[2]
+                || indices[0] == indices[2]
+            {
+                Some("a face needs three different particles")
+            } else {
+                None
+            };
+            if let Some(reason) = reason {
+                return Err(BuildError::BadFace {
+                    face,
+                    indices,
+                    reason,
+                    particles: count,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Rest length of `spring` (m): the given one, or the distance at creation.
+    pub fn rest_length(&self, spring: &SpringData) -> Real {
+        spring
+            .rest_length
+            .unwrap_or_else(|| self.position[spring.first].distance(self.position[spring.second]))
+    }
+}
+
+fn check_len(
+    field: &'static str,
+    found: usize,
+    expected: usize,
+    what: &'static str,
+) -> Result<(), BuildError> {
+    if found == expected {
+        Ok(())
+    } else {
+        Err(BuildError::LengthMismatch {
+            field,
+            expected,
+            found,
+            what,
+        })
+    }
+}
+
+fn check_finite_vec(field: &'static str, index: usize, v: Vec3) -> Result<(), BuildError> {
+    match v.to_array().into_iter().find(|c| !c.is_finite()) {
+        Some(value) => Err(BuildError::NotFinite {
+            field,
+            index,
+            value,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// A body as the world stores it: a name and ranges into the world's
+/// particle and spring arrays.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    /// Unique name, used for diagnostics columns (`NAME.cx`, ...).
+    pub name: String,
+    /// Indices of the body's particles in the world.
+    pub particles: Range<usize>,
+    /// Indices of the body's springs in the world.
+    pub springs: Range<usize>,
+    /// Triangles with world particle indices.
+    pub faces: Vec<[u32; 3]>,
+}

@@ -1,0 +1,93 @@
+//! A cloth: an `nx × ny` grid of particles in the xy-plane with structural,
+//! shear and bending springs (PHYSICS.md §2), and its triangles.
+
+use super::{check_count, check_length};
+use crate::body::{BodyData, SpringData};
+use crate::error::BuildError;
+use crate::{Real, Vec3};
+
+/// Which families of springs a cloth gets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ClothSprings {
+    /// Springs to the 4 grid neighbours.
+    pub structural: bool,
+    /// Springs on both diagonals of each cell; without them the grid has no
+    /// resistance to shear and collapses.
+    pub shear: bool,
+    /// Springs two cells apart along x and y, resisting folding.
+    pub bending: bool,
+}
+
+impl Default for ClothSprings {
+    fn default() -> Self {
+        ClothSprings {
+            structural: true,
+            shear: true,
+            bending: true,
+        }
+    }
+}
+
+/// A cloth of `nx × ny` particles (each at least 2) spanning `width × height`
+/// (m) in the xy-plane with its corner at the origin. Particle `(x, y)` has
+/// index `y * nx + x`. Each cell gives two triangles, counter-clockwise
+/// seen from +z.
+pub fn cloth(
+    nx: usize,
+    ny: usize,
+    width: Real,
+    height: Real,
+    springs: ClothSprings,
+) -> Result<BodyData, BuildError> {
+    check_count(
+        "cloth.nx",
+        nx,
+        2,
+        "a cloth needs at least 2 particles along x",
+    )?;
+    check_count(
+        "cloth.ny",
+        ny,
+        2,
+        "a cloth needs at least 2 particles along y",
+    )?;
+    check_length("cloth.width", width)?;
+    check_length("cloth.height", height)?;
+    let (dx, dy) = (width / (nx - 1) as Real, height / (ny - 1) as Real);
+    let id = |x: usize, y: usize| y * nx + x;
+    let position = (0..ny)
+        .flat_map(|y| (0..nx).map(move |x| Vec3::new(x as Real * dx, y as Real * dy, 0.0)))
+        .collect();
+    let mut body = BodyData::from_positions(position);
+    let mut add = |a: usize, b: usize| body.springs.push(SpringData::between(a, b));
+    for y in 0..ny {
+        for x in 0..nx {
+            if springs.structural && x + 1 < nx {
+                add(id(x, y), id(x + 1, y));
+            }
+            if springs.structural && y + 1 < ny {
+                add(id(x, y), id(x, y + 1));
+            }
+            if springs.shear && x + 1 < nx && y + 1 < ny {
+                add(id(x, y), id(x + 1, y + 1));
+                add(id(x + 1, y), id(x, y + 1));
+            }
+            if springs.bending && x + 2 < nx {
+                add(id(x, y), id(x + 2, y));
+            }
+            if springs.bending && y + 2 < ny {
+                add(id(x, y), id(x, y + 2));
+            }
+        }
+    }
+    body.faces = (0..ny - 1)
+        .flat_map(|y| (0..nx - 1).map(move |x| (x, y)))
+        .flat_map(|(x, y)| {
+            [
+                [id(x, y), id(x + 1, y), id(x + 1, y + 1)],
+                [id(x, y), id(x + 1, y + 1), id(x, y + 1)],
+            ]
+        })
+        .collect();
+    Ok(body)
+}

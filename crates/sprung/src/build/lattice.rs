@@ -1,0 +1,52 @@
+//! A lattice ("jelly"): a 3D grid of particles with springs to all 26
+//! neighbours (PHYSICS.md §2). A 6-neighbour lattice has no resistance to
+//! shear; the face and body diagonals make it hold its shape.
+
+use super::{check_count, check_length};
+use crate::body::{BodyData, SpringData};
+use crate::error::BuildError;
+use crate::{Real, Vec3};
+
+/// A lattice of `nx × ny × nz` particles (each at least 2) `spacing` (m)
+/// apart, its corner at the origin. Particle `(x, y, z)` has index
+/// `(z * ny + y) * nx + x`. Each particle is joined to its 26 neighbours
+/// (13 springs per particle, each pair once).
+pub fn lattice(nx: usize, ny: usize, nz: usize, spacing: Real) -> Result<BodyData, BuildError> {
+    for (field, n) in [("lattice.nx", nx), ("lattice.ny", ny), ("lattice.nz", nz)] {
+        check_count(
+            field,
+            n,
+            2,
+            "a lattice needs at least 2 particles along each axis",
+        )?;
+    }
+    check_length("lattice.spacing", spacing)?;
+    let id = |x: usize, y: usize, z: usize| (z * ny + y) * nx + x;
+    let cells =
+        || (0..nz).flat_map(move |z| (0..ny).flat_map(move |y| (0..nx).map(move |x| (x, y, z))));
+    let position = cells()
+        .map(|(x, y, z)| spacing * Vec3::new(x as Real, y as Real, z as Real))
+        .collect();
+    // The 13 neighbour offsets that are lexicographically positive: each
+    // pair of neighbours is visited from exactly one side.
+    let offsets: Vec<[isize; 3]> = (-1..=1)
+        .flat_map(|dz| (-1..=1).flat_map(move |dy| (-1..=1).map(move |dx| [dx, dy, dz])))
+        .filter(|&[dx, dy, dz]| (dz, dy, dx) > (0, 0, 0))
+        .collect();
+    let mut body = BodyData::from_positions(position);
+    for (x, y, z) in cells() {
+        for &[dx, dy, dz] in &offsets {
+            let (u, v, w) = (x as isize + dx, y as isize + dy, z as isize + dz);
+            let inside = (0..nx as isize).contains(&u)
+                && (0..ny as isize).contains(&v)
+                && (0..nz as isize).contains(&w);
+            if inside {
+                body.springs.push(SpringData::between(
+                    id(x, y, z),
+                    id(u as usize, v as usize, w as usize),
+                ));
+            }
+        }
+    }
+    Ok(body)
+}

@@ -1,0 +1,48 @@
+//! Builders: functions that lay out the particles, springs and faces of a
+//! common body (PHYSICS.md §2) as a [`BodyData`], ready for
+//! [`crate::World::add_body`]. Every particle has mass 1 kg and every spring
+//! zero stiffness and damping until the caller sets them with the
+//! `BodyData::with_*` methods.
+//!
+//! To add a builder: a file here with a function returning
+//! `Result<BodyData, BuildError>` that checks its own parameters.
+
+mod cloth;
+mod lattice;
+mod rope;
+
+pub use cloth::{cloth, ClothSprings};
+pub use lattice::lattice;
+pub use rope::rope;
+
+use crate::error::BuildError;
+use crate::Real;
+
+/// Refuse a count below `min`.
+fn check_count(
+    field: &'static str,
+    value: usize,
+    min: usize,
+    reason: &'static str,
+) -> Result<(), BuildError> {
+    if value < min {
+        return Err(BuildError::OutOfRange {
+            field,
+            value: value as Real,
+            reason,
+        });
+    }
+    Ok(())
+}
+
+/// Refuse a length that is not positive and finite.
+fn check_length(field: &'static str, value: Real) -> Result<(), BuildError> {
+    if !(value.is_finite() && value > 0.0) {
+        return Err(BuildError::OutOfRange {
+            field,
+            value,
+            reason: "must be a positive, finite length (m)",
+        });
+    }
+    Ok(())
+}

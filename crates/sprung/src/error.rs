@@ -1,0 +1,177 @@
+//! Errors of the engine: building a body from a user's description, and
+//! stepping a world whose state has become non-finite or run away.
+//!
+//! Every message names the offending field (with the scene-file key the
+//! user wrote) and the index, so a loader can add the file and line.
+
+use crate::Real;
+use thiserror::Error;
+
+/// Why a body (or a world setting) was refused before the run.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum BuildError {
+    /// A body with no particles.
+    #[error("the body has no particles")]
+    NoParticles,
+    /// A per-particle or per-spring list whose length disagrees with the count it describes.
+    #[error("`{field}` has {found} entries but the body has {expected} {what}")]
+    LengthMismatch {
+        /// Scene key of the list.
+        field: &'static str,
+        /// Entries expected.
+        expected: usize,
+        /// Entries found.
+        found: usize,
+        /// What is counted ("particles" or "springs").
+        what: &'static str,
+    },
+    /// A mass that is zero, negative or not finite.
+    #[error("`{field}`[{index}] = {value}: mass must be positive and finite (kg)")]
+    BadMass {
+        /// Scene key (`mass`, `masses` or `total_mass`).
+        field: &'static str,
+        /// Particle index.
+        index: usize,
+        /// The value given (kg).
+        value: Real,
+    },
+    /// A number that is NaN or infinite.
+    #[error("`{field}`[{index}] is not a finite number ({value})")]
+    NotFinite {
+        /// Scene key of the value.
+        field: &'static str,
+        /// Index of the entry (particle, spring, ...).
+        index: usize,
+        /// The value given.
+        value: Real,
+    },
+    /// A parameter outside its allowed range.
+    #[error("`{field}` = {value}: {reason}")]
+    OutOfRange {
+        /// Scene key of the parameter.
+        field: &'static str,
+        /// The value given.
+        value: Real,
+        /// What the allowed range is.
+        reason: &'static str,
+    },
+    /// A spring naming a particle that does not exist.
+    #[error("`springs`[{spring}] = [{first}, {second}]: particle index {bad} is out of range (the body has {particles} particles)")]
+    SpringIndexOutOfRange {
+        /// Spring index.
+        spring: usize,
+        /// First particle index given.
+        first: usize,
+        /// Second particle index given.
+        second: usize,
+        /// The out-of-range index.
+        bad: usize,
+        /// Number of particles in the body.
+        particles: usize,
+    },
+    /// A spring joining a particle to itself.
+    #[error("`springs`[{spring}] = [{particle}, {particle}] joins a particle to itself")]
+    SelfSpring {
+        /// Spring index.
+        spring: usize,
+        /// The particle index.
+        particle: usize,
+    },
+    /// Two springs joining the same pair of particles (refused, not merged).
+    #[error("`springs`[{spring}] = [{first}, {second}] duplicates `springs`[{earlier}]: each pair of particles may have one spring (duplicates are refused, not merged)")]
+    DuplicateSpring {
+        /// Index of the later spring.
+        spring: usize,
+        /// Index of the earlier spring with the same pair.
+        earlier: usize,
+        /// First particle index.
+        first: usize,
+        /// Second particle index.
+        second: usize,
+    },
+    /// A spring whose rest length is zero or negative.
+    #[error("`springs`[{spring}] = [{first}, {second}] has rest length {length} m: a spring needs a positive rest length (are the two particles at the same place?)")]
+    ZeroLengthSpring {
+        /// Spring index.
+        spring: usize,
+        /// First particle index.
+        first: usize,
+        /// Second particle index.
+        second: usize,
+        /// The rest length (m).
+        length: Real,
+    },
+    /// A pinned index that names no particle.
+    #[error("`pinned`[{entry}] = {index} is out of range (the body has {particles} particles)")]
+    PinnedOutOfRange {
+        /// Position in the `pinned` list.
+        entry: usize,
+        /// The index given.
+        index: usize,
+        /// Number of particles.
+        particles: usize,
+    },
+    /// A face naming a particle that does not exist, or repeating one.
+    #[error("`faces`[{face}] = {indices:?}: {reason} (the body has {particles} particles)")]
+    BadFace {
+        /// Face index.
+        face: usize,
+        /// The three particle indices.
+        indices: [usize; 3],
+        /// What is wrong.
+        reason: &'static str,
+        /// Number of particles.
+        particles: usize,
+    },
+    /// Two bodies with the same name.
+    #[error("a body named \"{0}\" already exists: body names must be unique")]
+    DuplicateName(String),
+}
+
+/// Why a step could not be taken, or why the run must stop.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum StepError {
+    /// A time step that is zero, negative or not finite.
+    #[error("time step dt = {dt} s: it must be positive and finite")]
+    InvalidTimeStep {
+        /// The time step given (s).
+        dt: Real,
+    },
+    /// The state became non-finite or ran away: the run must stop.
+    #[error("simulation blew up at step {step} (t = {time:.6} s): particle {particle} {reason}; the time step dt = {dt} s is too large for these springs and masses: a stable estimate is dt <= {stable_dt:.3e} s")]
+    BlowUp {
+        /// Number of the step that produced the bad state (1 = first step).
+        step: u64,
+        /// Simulated time at the end of that step (s).
+        time: Real,
+        /// A particle whose state is bad.
+        particle: usize,
+        /// What is wrong with it.
+        reason: BlowUpReason,
+        /// The time step used (s).
+        dt: Real,
+        /// Stable time-step estimate from the springs and masses (s).
+        stable_dt: Real,
+    },
+}
+
+/// What made the blow-up detector stop a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BlowUpReason {
+    /// Position or velocity is NaN or infinite.
+    NonFinite,
+    /// Distance from the origin above the world's limit (m).
+    TooFar(Real),
+    /// Speed above the world's limit (m/s).
+    TooFast(Real),
+}
+
+impl std::fmt::Display for BlowUpReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BlowUpReason::NonFinite => write!(f, "has a non-finite position or velocity"),
+            BlowUpReason::TooFar(d) => write!(f, "ran away to {d:.3e} m from the origin"),
+            BlowUpReason::TooFast(v) => write!(f, "ran away at {v:.3e} m/s"),
+        }
+    }
+}

@@ -1,0 +1,38 @@
+//! Explicit (forward) Euler: `x += v dt; v += a dt`. Order 1; it gains
+//! energy on every oscillator and is unstable for stiff springs. Kept for
+//! teaching: it is the method that blows up.
+
+use super::{fit, Derivative, Integrator, IntegratorKind};
+use crate::{Real, Vec3};
+
+/// Explicit Euler with its acceleration buffer.
+#[derive(Debug, Default)]
+pub struct ExplicitEuler {
+    acceleration: Vec<Vec3>,
+}
+
+impl Integrator for ExplicitEuler {
+    fn kind(&self) -> IntegratorKind {
+        IntegratorKind::Euler
+    }
+
+    fn step(
+        &mut self,
+        time: Real,
+        dt: Real,
+        position: &mut [Vec3],
+        velocity: &mut [Vec3],
+        system: &mut dyn Derivative,
+    ) {
+        fit(&mut self.acceleration, position.len());
+        system.acceleration(time, position, velocity, &mut self.acceleration);
+        for ((x, v), a) in position
+            .iter_mut()
+            .zip(velocity.iter_mut())
+            .zip(&self.acceleration)
+        {
+            *x += *v * dt;
+            *v += *a * dt;
+        }
+    }
+}

@@ -1,0 +1,76 @@
+//! Classic fourth-order Runge-Kutta: four derivative evaluations per step,
+//! weighted 1, 2, 2, 1. Order 4: the most accurate per step, at four times
+//! the cost of Euler.
+
+use super::{fit, Derivative, Integrator, IntegratorKind};
+use crate::{Real, Vec3};
+
+/// RK4 with its stage buffers: the trial state, the stage acceleration and
+/// the running weighted sums of the stage derivatives.
+#[derive(Debug, Default)]
+pub struct RungeKutta4 {
+    trial_position: Vec<Vec3>,
+    trial_velocity: Vec<Vec3>,
+    acceleration: Vec<Vec3>,
+    sum_velocity: Vec<Vec3>,
+    sum_acceleration: Vec<Vec3>,
+}
+
+impl Integrator for RungeKutta4 {
+    fn kind(&self) -> IntegratorKind {
+        IntegratorKind::Rk4
+    }
+
+    fn step(
+        &mut self,
+        time: Real,
+        dt: Real,
+        position: &mut [Vec3],
+        velocity: &mut [Vec3],
+        system: &mut dyn Derivative,
+    ) {
+        let n = position.len();
+        for buffer in [
+            &mut self.trial_position,
+            &mut self.trial_velocity,
+            &mut self.acceleration,
+            &mut self.sum_velocity,
+            &mut self.sum_acceleration,
+        ] {
+            fit(buffer, n);
+        }
+        self.trial_position.copy_from_slice(position);
+        self.trial_velocity.copy_from_slice(velocity);
+        self.sum_velocity.fill(Vec3::ZERO);
+        self.sum_acceleration.fill(Vec3::ZERO);
+        // Stage k: derivative at the trial state, added with its weight; the
+        // next trial state is the start plus `next_offset * dt` times it.
+        let stages = [
+            (0.0, 1.0, 0.5),
+            (0.5, 2.0, 0.5),
+            (0.5, 2.0, 1.0),
+            (1.0, 1.0, 0.0),
+        ];
+        for (time_offset, weight, next_offset) in stages {
+            system.acceleration(
+                time + time_offset * dt,
+                &self.trial_position,
+                &self.trial_velocity,
+                &mut self.acceleration,
+            );
+            for i in 0..n {
+                let (stage_velocity, stage_acceleration) =
+                    (self.trial_velocity[i], self.acceleration[i]);
+                self.sum_velocity[i] += weight * stage_velocity;
+                self.sum_acceleration[i] += weight * stage_acceleration;
+                self.trial_position[i] = position[i] + next_offset * dt * stage_velocity;
+                self.trial_velocity[i] = velocity[i] + next_offset * dt * stage_acceleration;
+            }
+        }
+        let sixth = dt / 6.0;
+        for i in 0..n {
+            position[i] += sixth * self.sum_velocity[i];
+            velocity[i] += sixth * self.sum_acceleration[i];
+        }
+    }
+}

@@ -1,0 +1,37 @@
+//! Semi-implicit (symplectic) Euler: `v += a dt; x += v dt`. Order 1, but
+//! symplectic: the energy error stays bounded instead of drifting.
+
+use super::{fit, Derivative, Integrator, IntegratorKind};
+use crate::{Real, Vec3};
+
+/// Symplectic Euler with its acceleration buffer.
+#[derive(Debug, Default)]
+pub struct SymplecticEuler {
+    acceleration: Vec<Vec3>,
+}
+
+impl Integrator for SymplecticEuler {
+    fn kind(&self) -> IntegratorKind {
+        IntegratorKind::SymplecticEuler
+    }
+
+    fn step(
+        &mut self,
+        time: Real,
+        dt: Real,
+        position: &mut [Vec3],
+        velocity: &mut [Vec3],
+        system: &mut dyn Derivative,
+    ) {
+        fit(&mut self.acceleration, position.len());
+        system.acceleration(time, position, velocity, &mut self.acceleration);
+        for ((x, v), a) in position
+            .iter_mut()
+            .zip(velocity.iter_mut())
+            .zip(&self.acceleration)
+        {
+            *v += *a * dt;
+            *x += *v * dt;
+        }
+    }
+}
