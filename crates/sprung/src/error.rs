@@ -138,7 +138,7 @@ pub enum StepError {
         dt: Real,
     },
     /// The state became non-finite or ran away: the run must stop.
-    #[error("simulation blew up at step {step} (t = {time:.6} s): particle {particle} {reason}; the time step dt = {dt} s is too large for these springs and masses: a stable estimate is dt <= {stable_dt:.3e} s")]
+    #[error("simulation blew up at step {step} (t = {time:.6} s): particle {particle} {reason}; {}", advice(*dt, *stable_dt))]
     BlowUp {
         /// Number of the step that produced the bad state (1 = first step).
         step: u64,
@@ -153,6 +153,15 @@ pub enum StepError {
         /// Stable time-step estimate from the springs and masses (s).
         stable_dt: Real,
     },
+}
+
+/// What to do about a blow-up at time step `dt` given the stable estimate.
+fn advice(dt: Real, stable_dt: Real) -> String {
+    if dt > stable_dt {
+        format!("the time step dt = {dt} s is too large for these springs and masses: a stable estimate is dt <= {stable_dt:.3e} s")
+    } else {
+        format!("the time step dt = {dt} s is already below the stable estimate {stable_dt:.3e} s, so look at the forces (one-sided springs need critical damping; explicit Euler gains energy at any dt)")
+    }
 }
 
 /// What made the blow-up detector stop a run.

@@ -1,0 +1,194 @@
+//! `sprung run`: step a scene, record diagnostics and frames, stop at once
+//! on a blow-up with the rows recorded so far (all finite).
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use sprung::{Real, StepError};
+use sprung_io::export::{self, Diagnostics};
+use sprung_io::{load_scene, Scene, SceneError};
+
+use crate::RunOptions;
+
+/// Records per simulated second when neither the scene nor `--every` says.
+const DEFAULT_RECORD_RATE: Real = 50.0;
+
+/// Why a command failed.
+#[derive(Debug)]
+pub enum CliError {
+    /// A scene or an option that cannot be used (nothing was run).
+    Input(String),
+    /// The scene file's own error.
+    Scene(SceneError),
+    /// A file that could not be written.
+    Io(String),
+    /// The simulation blew up; the diagnostics up to it were written.
+    BlowUp(StepError, PathBuf),
+}
+
+impl CliError {
+    /// The process exit status for this error.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::BlowUp(..) => 3,
+            _ => 1,
+        }
+    }
+}
+
+impl fmt::Display for CliError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            CliError::Input(m) | CliError::Io(m) => f.write_str(m),
+            CliError::Scene(e) => write!(f, "{e}"),
+            CliError::BlowUp(e, out) => write!(
+                f,
+                "{e}\n(diagnostics up to the last good step are in {})",
+                out.join("diagnostics.csv").display()
+            ),
+        }
+    }
+}
+
+impl From<SceneError> for CliError {
+    fn from(e: SceneError) -> Self {
+        CliError::Scene(e)
+    }
+}
+
+/// `sprung run SCENE`: load the file, then [`run_scene`].
+pub fn run_file(path: &Path, options: &RunOptions) -> Result<(), CliError> {
+    let scene = load_scene(path)?;
+    let stem = path
+        .file_stem()
+        .unwrap_or_default()
+        .to_string_lossy()
+        .into_owned();
+    let out = options
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join(stem));
+    run_scene(scene, &out, options)
+}
+
+/// Run `scene` with `options`, writing into `out`.
+pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(), CliError> {
+    if let Some(kind) = options.integrator {
+        scene.world.set_integrator(kind);
+    }
+    let steps = planned_steps(&scene, options)?;
+    let every = options
+        .every
+        .or(scene.every)
+        .unwrap_or_else(|| ((1.0 / DEFAULT_RECORD_RATE / scene.dt).round() as u64).max(1));
+    if every == 0 {
+        return Err(CliError::Input("--every must be at least 1".into()));
+    }
+    let particles = scene.world.particles.len();
+    if let Some(&bad) = options.probe.iter().find(|&&p| p >= particles) {
+        return Err(CliError::Input(format!(
+            "--probe {bad}: no such particle (the scene has {particles}, numbered 0 to {})",
+            particles.saturating_sub(1)
+        )));
+    }
+    let frames_dir = out.join("frames");
+    prepare_output(out, options.format.map(|_| frames_dir.as_path()))?;
+    let io = |e: std::io::Error| CliError::Io(format!("cannot write to {}: {e}", out.display()));
+    let mut diagnostics =
+        Diagnostics::create(&out.join("diagnostics.csv"), &scene.world, &options.probe)
+            .map_err(io)?;
+    let mut frames = 0;
+    let mut record =
+        |world: &sprung::World, diagnostics: &mut Diagnostics| -> Result<(), CliError> {
+            diagnostics.record(world).map_err(io)?;
+            if let Some(format) = options.format {
+                export::write_frame(&frames_dir, frames, world, format).map_err(io)?;
+                frames += 1;
+            }
+            Ok(())
+        };
+    record(&scene.world, &mut diagnostics)?;
+    let progress = progress_bar(steps, options.quiet);
+    for step in 1..=steps {
+        if let Err(error) = scene.world.step(scene.dt) {
+            progress.abandon();
+            diagnostics.finish().map_err(io)?;
+            return Err(CliError::BlowUp(error, out.to_path_buf()));
+        }
+        if step % every == 0 || step == steps {
+            record(&scene.world, &mut diagnostics)?;
+        }
+        if step % 256 == 0 {
+            progress.set_position(step);
+        }
+    }
+    progress.finish_and_clear();
+    let rows = diagnostics.rows();
+    diagnostics.finish().map_err(io)?;
+    if !options.quiet {
+        println!(
+            "{}: {steps} steps of {} s ({} s simulated, {}), {rows} rows{} in {}",
+            scene.path.display(),
+            scene.dt,
+            scene.world.time(),
+            scene.world.integrator(),
+            if frames > 0 {
+                format!(", {frames} frames")
+            } else {
+                String::new()
+            },
+            out.display()
+        );
+    }
+    Ok(())
+}
+
+fn planned_steps(scene: &Scene, options: &RunOptions) -> Result<u64, CliError> {
+    match (options.steps, options.time) {
+        (Some(0), _) => Err(CliError::Input("--steps must be at least 1".into())),
+        (Some(n), _) => Ok(n),
+        (None, Some(t)) if !(t.is_finite() && t > 0.0) => Err(CliError::Input(format!(
+            "--time {t}: must be a positive, finite time (s)"
+        ))),
+        (None, Some(t)) => Ok(((t / scene.dt).round() as u64).max(1)),
+        (None, None) => Ok(scene.steps),
+    }
+}
+
+/// Create the output folder and, for frames, an empty `frames/` (earlier
+/// frames of this run's format would mix into the new sequence).
+fn prepare_output(out: &Path, frames: Option<&Path>) -> Result<(), CliError> {
+    let fail = |e: std::io::Error, dir: &Path| {
+        CliError::Io(format!("cannot create {}: {e}", dir.display()))
+    };
+    std::fs::create_dir_all(out).map_err(|e| fail(e, out))?;
+    if let Some(dir) = frames {
+        std::fs::create_dir_all(dir).map_err(|e| fail(e, dir))?;
+        let stale = std::fs::read_dir(dir).map_err(|e| fail(e, dir))?;
+        for entry in stale.flatten() {
+            let name = entry.file_name();
+            if name.to_string_lossy().starts_with("frame_") {
+                std::fs::remove_file(entry.path()).map_err(|e| fail(e, dir))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A progress bar with rate and time left on a terminal; hidden when stderr
+/// is not a terminal or with `--quiet`.
+fn progress_bar(steps: u64, quiet: bool) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template(
+        "{bar:40.cyan/blue} {pos}/{len} steps  {per_sec}  {elapsed} elapsed, {eta} left",
+    ) {
+        bar.set_style(style);
+    }
+    bar.enable_steady_tick(Duration::from_millis(200));
+    bar
+}

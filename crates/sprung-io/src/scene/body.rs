@@ -1,0 +1,219 @@
+//! `[[body]]` tables into [`BodyData`].
+//!
+//! A body comes from exactly one builder: `particles` (explicit, with
+//! `springs`, `rest_lengths`, `faces`), `rope`, `cloth` or `lattice`. Keys
+//! every body accepts: `mass` (kg, each particle), `masses` (one per
+//! particle) or `total_mass` (kg, shared), `stiffness` (N/m) and `damping`
+//! (N·s/m) for all springs or one per spring, `one_sided`, `pinned`,
+//! `velocity` (m/s, all particles) or `velocities`, and the placement
+//! `scale`, `rotate` (degrees about x, y, z) and `translate` (m), applied
+//! in that order. Defaults: 1 kg per particle, [`DEFAULT_STIFFNESS`], no
+//! damping; a rope pins its top particle unless `pinned` says otherwise.
+
+use sprung::build::{self, ClothSprings};
+use sprung::{BodyData, BuildError, SpringData, Vec3};
+
+use super::tables::{BodyTable, PerSpring};
+use super::{positive, vector, KeyError};
+
+/// Spring stiffness when a body gives none (N/m).
+pub const DEFAULT_STIFFNESS: f64 = 100.0;
+
+/// Build the body a table describes (not yet checked: `World::add_body` does).
+pub(crate) fn body_data(table: &BodyTable) -> Result<BodyData, KeyError> {
+    let mut data = builder(table)?;
+    apply_masses(table, &mut data)?;
+    apply_springs(table, &mut data)?;
+    if let Some(pinned) = &table.pinned {
+        data.pinned = pinned.clone();
+    }
+    match (&table.velocity, &table.velocities) {
+        (Some(_), Some(_)) => {
+            return Err((
+                "velocity",
+                "give `velocity` or `velocities`, not both".into(),
+            ))
+        }
+        (Some(v), None) => data = data.with_velocity(vector("velocity", v)?),
+        (None, Some(list)) => {
+            data.velocity = list
+                .iter()
+                .map(|v| vector("velocities", v))
+                .collect::<Result<_, _>>()?;
+        }
+        (None, None) => {}
+    }
+    let scale = positive(
+        "scale",
+        table.scale.unwrap_or(1.0),
+        "the scale must be positive and finite",
+    )?;
+    let rotate = table
+        .rotate
+        .as_deref()
+        .map(|r| vector("rotate", r))
+        .transpose()?
+        .unwrap_or(Vec3::ZERO);
+    let translate = table
+        .translate
+        .as_deref()
+        .map(|t| vector("translate", t))
+        .transpose()?
+        .unwrap_or(Vec3::ZERO);
+    Ok(data.placed(scale, rotate, translate))
+}
+
+fn builder(table: &BodyTable) -> Result<BodyData, KeyError> {
+    let chosen: Vec<&str> = [
+        ("particles", table.particles.is_some()),
+        ("rope", table.rope.is_some()),
+        ("cloth", table.cloth.is_some()),
+        ("lattice", table.lattice.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(key, given)| given.then_some(key))
+    .collect();
+    match chosen.as_slice() {
+        [] => return Err(("name", "the body has no particles: give `particles = [...]` or a builder (`rope`, `cloth`, `lattice`)".into())),
+        [_] => {}
+        several => {
+            return Err((several[1], format!("the body is given by {}: choose one", several.join(" and "))))
+        }
+    }
+    if table.particles.is_none() {
+        let explicit_only = [
+            ("springs", table.springs.is_some()),
+            ("rest_lengths", table.rest_lengths.is_some()),
+            ("faces", table.faces.is_some()),
+        ];
+        if let Some((key, _)) = explicit_only.iter().find(|(_, given)| *given) {
+            return Err((
+                key,
+                format!(
+                    "`{key}` belongs to explicit bodies (`particles = ...`), not to a `{}` body",
+                    chosen[0]
+                ),
+            ));
+        }
+    }
+    let built = match (&table.rope, &table.cloth, &table.lattice) {
+        (Some(rope), _, _) => build::rope(rope.particles, rope.length),
+        (_, Some(cloth), _) => {
+            let families = ClothSprings {
+                structural: cloth.structural,
+                shear: cloth.shear,
+                bending: cloth.bending,
+            };
+            build::cloth(cloth.nx, cloth.ny, cloth.width, cloth.height, families)
+        }
+        (_, _, Some(lattice)) => {
+            build::lattice(lattice.nx, lattice.ny, lattice.nz, lattice.spacing)
+        }
+        (None, None, None) => return explicit(table),
+    };
+    built.map_err(|e| (key_of(&e), e.to_string()))
+}
+
+fn explicit(table: &BodyTable) -> Result<BodyData, KeyError> {
+    let positions = table
+        .particles
+        .as_deref()
+        .unwrap_or_default()
+        .iter()
+        .map(|p| vector("particles", p))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut data = BodyData::from_positions(positions);
+    let pairs = table.springs.as_deref().unwrap_or_default();
+    data.springs = pairs
+        .iter()
+        .map(|&[a, b]| SpringData::between(a, b))
+        .collect();
+    if let Some(lengths) = &table.rest_lengths {
+        if lengths.len() != pairs.len() {
+            return Err((
+                "rest_lengths",
+                format!(
+                    "`rest_lengths` has {} entries but the body has {} springs",
+                    lengths.len(),
+                    pairs.len()
+                ),
+            ));
+        }
+        for (spring, &length) in data.springs.iter_mut().zip(lengths) {
+            spring.rest_length = Some(length);
+        }
+    }
+    data.faces = table.faces.clone().unwrap_or_default();
+    Ok(data)
+}
+
+fn apply_masses(table: &BodyTable, data: &mut BodyData) -> Result<(), KeyError> {
+    let given = [
+        table.mass.is_some(),
+        table.masses.is_some(),
+        table.total_mass.is_some(),
+    ];
+    if given.iter().filter(|&&g| g).count() > 1 {
+        return Err((
+            "mass",
+            "give one of `mass`, `masses` and `total_mass`".into(),
+        ));
+    }
+    if let Some(m) = table.mass {
+        *data = std::mem::take(data).with_mass(m);
+    } else if let Some(masses) = &table.masses {
+        data.mass = masses.clone();
+    } else if let Some(total) = table.total_mass {
+        let total = positive("total_mass", total, "mass must be positive and finite (kg)")?;
+        *data = std::mem::take(data).with_total_mass(total);
+    }
+    Ok(())
+}
+
+fn apply_springs(table: &BodyTable, data: &mut BodyData) -> Result<(), KeyError> {
+    let count = data.springs.len();
+    let each = |key: &'static str,
+                value: &Option<PerSpring>,
+                default: f64|
+     -> Result<Vec<f64>, KeyError> {
+        match value {
+            None => Ok(vec![default; count]),
+            Some(PerSpring::All(v)) => Ok(vec![*v; count]),
+            Some(PerSpring::Each(list)) if list.len() == count => Ok(list.clone()),
+            Some(PerSpring::Each(list)) => Err((
+                key,
+                format!(
+                    "`{key}` has {} entries but the body has {count} springs",
+                    list.len()
+                ),
+            )),
+        }
+    };
+    let stiffness = each("stiffness", &table.stiffness, DEFAULT_STIFFNESS)?;
+    let damping = each("damping", &table.damping, 0.0)?;
+    let one_sided = table.one_sided.unwrap_or(false);
+    for ((spring, k), c) in data.springs.iter_mut().zip(stiffness).zip(damping) {
+        spring.stiffness = k;
+        spring.damping = c;
+        spring.one_sided = one_sided;
+    }
+    Ok(())
+}
+
+/// The scene key a [`BuildError`] is about, to find its line.
+pub(crate) fn key_of(error: &BuildError) -> &'static str {
+    match error {
+        BuildError::NoParticles => "particles",
+        BuildError::LengthMismatch { field, .. }
+        | BuildError::BadMass { field, .. }
+        | BuildError::NotFinite { field, .. }
+        | BuildError::OutOfRange { field, .. } => field,
+        BuildError::SpringIndexOutOfRange { .. }
+        | BuildError::SelfSpring { .. }
+        | BuildError::DuplicateSpring { .. }
+        | BuildError::ZeroLengthSpring { .. } => "springs",
+        BuildError::PinnedOutOfRange { .. } => "pinned",
+        BuildError::BadFace { .. } => "faces",
+        BuildError::DuplicateName(_) => "name",
+    }
+}

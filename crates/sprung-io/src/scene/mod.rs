@@ -1,0 +1,226 @@
+//! Scene files: TOML read with serde into a ready-to-step [`World`].
+//!
+//! A scene has `[sim]` (time step `dt`, `integrator`, `gravity`,
+//! `duration` or `steps`, `air_drag`, `every`), any number of `[[body]]`
+//! tables (see [`body`] for the keys) and `[[collider]]` tables. Every
+//! unknown key is an error naming it; every error names the file and the
+//! line. Nothing is half-built: a scene either loads whole or not at all.
+
+mod body;
+mod error;
+mod tables;
+
+pub use error::SceneError;
+
+use std::path::{Path, PathBuf};
+
+use sprung::{Collider, ContactResponse, IntegratorKind, Real, Shape, Vec3, World};
+
+use error::{line_of, line_of_key};
+use tables::{ColliderTable, SceneFile, SimTable};
+
+/// Simulated time when `[sim]` gives neither `duration` nor `steps` (s).
+pub const DEFAULT_DURATION: Real = 5.0;
+
+/// A loaded scene: the world and how to run it.
+#[derive(Debug)]
+pub struct Scene {
+    /// The world, built and checked.
+    pub world: World,
+    /// Time step (s).
+    pub dt: Real,
+    /// Number of steps to run.
+    pub steps: u64,
+    /// Record every K steps, if the scene says.
+    pub every: Option<u64>,
+    /// The file it came from (relative paths inside it are relative to its folder).
+    pub path: PathBuf,
+}
+
+/// Read and build the scene file at `path`.
+pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    parse_scene(&text, path)
+}
+
+/// Build a scene from its TOML `text`; `path` names it in errors and anchors
+/// relative paths.
+pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, SceneError> {
+    let file: SceneFile = toml::from_str(text).map_err(|e| {
+        let line = e.span().map(|s| line_of(text, s.start));
+        SceneError::new(path, line, e.message().trim().to_string())
+    })?;
+    let sim_span = file.sim.span();
+    let at = |span: std::ops::Range<usize>, key: &str, message: String| {
+        let line =
+            line_of_key(text, span.clone(), key).unwrap_or_else(|| line_of(text, span.start));
+        SceneError::new(path, Some(line), message)
+    };
+    let sim = file.sim.get_ref();
+    let (integrator, dt, steps) = timing(sim).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
+    let mut world = World::new(integrator);
+    apply_settings(&mut world, sim).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
+    for table in &file.body {
+        let span = table.span();
+        let body = table.get_ref();
+        let data = body::body_data(body)
+            .map_err(|(key, m)| at(span.clone(), key, format!("body \"{}\": {m}", body.name)))?;
+        world.add_body(&body.name, data).map_err(|e| {
+            let key = body::key_of(&e);
+            at(span.clone(), key, format!("body \"{}\": {e}", body.name))
+        })?;
+    }
+    for table in &file.collider {
+        let span = table.span();
+        let collider = collider(table.get_ref())
+            .map_err(|(key, m)| at(span.clone(), key, format!("collider: {m}")))?;
+        world.colliders.push(collider);
+    }
+    Ok(Scene {
+        world,
+        dt,
+        steps,
+        every: sim.every,
+        path: path.to_path_buf(),
+    })
+}
+
+/// A problem with one key: the key and the message.
+pub(crate) type KeyError = (&'static str, String);
+
+fn timing(sim: &SimTable) -> Result<(IntegratorKind, Real, u64), KeyError> {
+    let integrator = match &sim.integrator {
+        None => IntegratorKind::SymplecticEuler,
+        Some(name) => name.parse().map_err(|m| ("integrator", m))?,
+    };
+    let dt = positive(
+        "dt",
+        sim.dt,
+        "the time step must be positive and finite (s)",
+    )?;
+    let steps = match (sim.duration, sim.steps) {
+        (Some(_), Some(_)) => {
+            return Err(("steps", "give `duration` or `steps`, not both".into()));
+        }
+        (None, Some(0)) => return Err(("steps", "`steps` must be at least 1".into())),
+        (None, Some(steps)) => steps,
+        (duration, None) => {
+            let duration = positive(
+                "duration",
+                duration.unwrap_or(DEFAULT_DURATION),
+                "the duration must be positive and finite (s)",
+            )?;
+            (duration / dt).round().max(1.0) as u64
+        }
+    };
+    if sim.every == Some(0) {
+        return Err((
+            "every",
+            "`every` must be at least 1 (record every K steps)".into(),
+        ));
+    }
+    Ok((integrator, dt, steps))
+}
+
+fn apply_settings(world: &mut World, sim: &SimTable) -> Result<(), KeyError> {
+    let settings = &mut world.settings;
+    if let Some(g) = &sim.gravity {
+        settings.gravity = vector("gravity", g)?;
+    }
+    if let Some(c) = sim.air_drag {
+        if !(c.is_finite() && c >= 0.0) {
+            return Err((
+                "air_drag",
+                format!("`air_drag` = {c}: must be finite and not negative (N·s/m)"),
+            ));
+        }
+        settings.air_drag = c;
+    }
+    if let Some(d) = sim.max_distance {
+        settings.max_distance = positive("max_distance", d, "must be positive (m)")?;
+    }
+    if let Some(v) = sim.max_speed {
+        settings.max_speed = positive("max_speed", v, "must be positive (m/s)")?;
+    }
+    Ok(())
+}
+
+fn collider(table: &ColliderTable) -> Result<Collider, KeyError> {
+    let shape = match &table.plane {
+        Some(plane) => {
+            let point = vector("plane", &plane.point)?;
+            let normal = vector("plane", &plane.normal)?;
+            Shape::plane(point, normal).map_err(|e| ("plane", e.to_string()))?
+        }
+        None => {
+            return Err((
+                "plane",
+                "a collider needs a shape: `plane = { point, normal }`".into(),
+            ))
+        }
+    };
+    let response = match table.penalty_stiffness {
+        Some(stiffness) => {
+            if table.restitution.is_some() || table.friction.is_some() {
+                return Err((
+                    "penalty_stiffness",
+                    "`penalty_stiffness` (penalty form) cannot be combined with `restitution` or `friction` (projection form)".into(),
+                ));
+            }
+            ContactResponse::Penalty {
+                stiffness,
+                damping: table.penalty_damping.unwrap_or(0.0),
+            }
+        }
+        None => {
+            if table.penalty_damping.is_some() {
+                return Err((
+                    "penalty_damping",
+                    "`penalty_damping` needs `penalty_stiffness`".into(),
+                ));
+            }
+            ContactResponse::Projection {
+                restitution: table.restitution.unwrap_or(0.0),
+                friction: table.friction.unwrap_or(0.0),
+            }
+        }
+    };
+    Collider::new(shape, response).map_err(|e| {
+        let key = body::key_of(&e);
+        (key, e.to_string())
+    })
+}
+
+/// `value` if it is positive and finite, else an error for `key`.
+pub(crate) fn positive(key: &'static str, value: Real, reason: &str) -> Result<Real, KeyError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err((key, format!("`{key}` = {value}: {reason}")))
+    }
+}
+
+/// A vector from a list of 2 (z = 0) or 3 finite numbers.
+pub(crate) fn vector(key: &'static str, values: &[f64]) -> Result<Vec3, KeyError> {
+    let v = match values {
+        [x, y] => Vec3::new(*x, *y, 0.0),
+        [x, y, z] => Vec3::new(*x, *y, *z),
+        _ => {
+            return Err((
+                key,
+                format!(
+                    "`{key}` has {} numbers: a vector needs 2 (x, y) or 3 (x, y, z)",
+                    values.len()
+                ),
+            ))
+        }
+    };
+    if !v.is_finite() {
+        return Err((
+            key,
+            format!("`{key}` = {values:?}: every number must be finite"),
+        ));
+    }
+    Ok(v)
+}

@@ -1,0 +1,195 @@
+//! The TOML tables of a scene file, as serde reads them. Every table denies
+//! unknown keys, so a misspelt key is an error naming it.
+
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
+use serde::Deserialize;
+use toml::Spanned;
+
+/// The whole file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SceneFile {
+    pub sim: Spanned<SimTable>,
+    #[serde(default)]
+    pub body: Vec<Spanned<BodyTable>>,
+    #[serde(default)]
+    pub collider: Vec<Spanned<ColliderTable>>,
+}
+
+/// `[sim]`: time stepping and world settings.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SimTable {
+    /// Time step (s).
+    pub dt: f64,
+    /// Integrator name.
+    #[serde(default)]
+    pub integrator: Option<String>,
+    /// Gravity (m/s²).
+    #[serde(default)]
+    pub gravity: Option<Vec<f64>>,
+    /// Simulated duration (s).
+    #[serde(default)]
+    pub duration: Option<f64>,
+    /// Number of steps.
+    #[serde(default)]
+    pub steps: Option<u64>,
+    /// Global air drag (N·s/m).
+    #[serde(default)]
+    pub air_drag: Option<f64>,
+    /// Record every K steps.
+    #[serde(default)]
+    pub every: Option<u64>,
+    /// Blow-up limit on distance from the origin (m).
+    #[serde(default)]
+    pub max_distance: Option<f64>,
+    /// Blow-up limit on speed (m/s).
+    #[serde(default)]
+    pub max_speed: Option<f64>,
+}
+
+/// `[[body]]`: one body, from a builder or given particle by particle.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct BodyTable {
+    pub name: String,
+    // Explicit body.
+    #[serde(default)]
+    pub particles: Option<Vec<Vec<f64>>>,
+    #[serde(default)]
+    pub springs: Option<Vec<[usize; 2]>>,
+    #[serde(default)]
+    pub rest_lengths: Option<Vec<f64>>,
+    #[serde(default)]
+    pub faces: Option<Vec<[usize; 3]>>,
+    // Builders.
+    #[serde(default)]
+    pub rope: Option<RopeTable>,
+    #[serde(default)]
+    pub cloth: Option<ClothTable>,
+    #[serde(default)]
+    pub lattice: Option<LatticeTable>,
+    // Keys every body accepts.
+    #[serde(default)]
+    pub mass: Option<f64>,
+    #[serde(default)]
+    pub masses: Option<Vec<f64>>,
+    #[serde(default)]
+    pub total_mass: Option<f64>,
+    #[serde(default)]
+    pub stiffness: Option<PerSpring>,
+    #[serde(default)]
+    pub damping: Option<PerSpring>,
+    #[serde(default)]
+    pub one_sided: Option<bool>,
+    #[serde(default)]
+    pub pinned: Option<Vec<usize>>,
+    #[serde(default)]
+    pub velocity: Option<Vec<f64>>,
+    #[serde(default)]
+    pub velocities: Option<Vec<Vec<f64>>>,
+    #[serde(default)]
+    pub scale: Option<f64>,
+    #[serde(default)]
+    pub rotate: Option<Vec<f64>>,
+    #[serde(default)]
+    pub translate: Option<Vec<f64>>,
+}
+
+/// `rope = { particles, length }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RopeTable {
+    pub particles: usize,
+    pub length: f64,
+}
+
+/// `cloth = { nx, ny, width, height, structural, shear, bending }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ClothTable {
+    pub nx: usize,
+    pub ny: usize,
+    pub width: f64,
+    pub height: f64,
+    #[serde(default = "yes")]
+    pub structural: bool,
+    #[serde(default = "yes")]
+    pub shear: bool,
+    #[serde(default = "yes")]
+    pub bending: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// `lattice = { nx, ny, nz, spacing }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct LatticeTable {
+    pub nx: usize,
+    pub ny: usize,
+    pub nz: usize,
+    pub spacing: f64,
+}
+
+/// `[[collider]]`: a shape and its contact response.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ColliderTable {
+    #[serde(default)]
+    pub plane: Option<PlaneTable>,
+    #[serde(default)]
+    pub restitution: Option<f64>,
+    #[serde(default)]
+    pub friction: Option<f64>,
+    #[serde(default)]
+    pub penalty_stiffness: Option<f64>,
+    #[serde(default)]
+    pub penalty_damping: Option<f64>,
+}
+
+/// `plane = { point, normal }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct PlaneTable {
+    pub point: Vec<f64>,
+    pub normal: Vec<f64>,
+}
+
+/// A value for every spring, or one per spring.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum PerSpring {
+    All(f64),
+    Each(Vec<f64>),
+}
+
+impl<'de> Deserialize<'de> for PerSpring {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct PerSpringVisitor;
+        impl<'de> Visitor<'de> for PerSpringVisitor {
+            type Value = PerSpring;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or a list of numbers, one per spring")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<PerSpring, E> {
+                Ok(PerSpring::All(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<PerSpring, E> {
+                Ok(PerSpring::All(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<PerSpring, E> {
+                Ok(PerSpring::All(v as f64))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<PerSpring, A::Error> {
+                let mut values = Vec::new();
+                while let Some(v) = seq.next_element::<f64>()? {
+                    values.push(v);
+                }
+                Ok(PerSpring::Each(values))
+            }
+        }
+        deserializer.deserialize_any(PerSpringVisitor)
+    }
+}
