@@ -35,11 +35,12 @@ impl AtomicFile {
         file.commit()
     }
 
-    /// Flush, sync and rename the file into place.
+    /// Flush and rename the file into place. The rename is atomic, so a
+    /// reader (or a run that was killed) never sees a partial file; the data
+    /// is not forced to disk (no fsync: thousands of frames would crawl).
     pub fn commit(mut self) -> io::Result<()> {
-        if let Some(writer) = self.writer.take() {
-            let file = writer.into_inner().map_err(|e| e.into_error())?;
-            file.sync_all()?;
+        if let Some(mut writer) = self.writer.take() {
+            writer.flush()?;
         }
         fs::rename(&self.temporary, &self.path)
     }

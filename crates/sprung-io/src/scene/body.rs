@@ -160,6 +160,7 @@ fn apply_masses(table: &BodyTable, data: &mut BodyData) -> Result<(), KeyError> 
         ));
     }
     if let Some(m) = table.mass {
+        let m = positive("mass", m, "mass must be positive and finite (kg)")?;
         *data = std::mem::take(data).with_mass(m);
     } else if let Some(masses) = &table.masses {
         data.mass = masses.clone();
@@ -198,6 +199,16 @@ fn apply_springs(table: &BodyTable, data: &mut BodyData) -> Result<(), KeyError>
         spring.one_sided = one_sided;
     }
     Ok(())
+}
+
+/// The keys a user may have written for `key` (mass may come from three).
+pub(crate) fn aliases(key: &str) -> Vec<&str> {
+    match key {
+        "masses" | "mass" | "total_mass" => vec![key, "masses", "mass", "total_mass"],
+        "velocities" => vec![key, "velocity"],
+        "rest_lengths" => vec![key, "springs"],
+        _ => vec![key],
+    }
 }
 
 /// The scene key a [`BuildError`] is about, to find its line.

@@ -47,21 +47,42 @@ pub(crate) fn line_of(text: &str, offset: usize) -> usize {
         + 1
 }
 
-/// The 1-based line of the first `key = ...` (or `key=`) inside the byte
-/// range `span` of `text`; for a dotted key `table.key` the table's line.
-pub(crate) fn line_of_key(text: &str, span: std::ops::Range<usize>, key: &str) -> Option<usize> {
-    let key = key.split(['.', '[']).next().unwrap_or(key);
-    let start = span.start.min(text.len());
-    let end = span.end.min(text.len());
-    let mut offset = start;
-    for line in text.get(start..end)?.split_inclusive('\n') {
-        let trimmed = line.trim_start();
-        if let Some(rest) = trimmed.strip_prefix(key) {
-            if rest.trim_start().starts_with('=') {
-                return Some(line_of(text, offset));
+/// The 1-based line of the first `key = ...` (or `key=`) in the table that
+/// starts at byte `start` of `text`, looking up to the next table header;
+/// for a dotted key `table.key` the line of `table`. Tries each of `keys`
+/// in turn (a mass may have been given as `mass`, `masses` or `total_mass`).
+pub(crate) fn line_of_key(text: &str, start: usize, keys: &[&str]) -> Option<usize> {
+    let start = text
+        .get(..start.min(text.len()))?
+        .rfind('\n')
+        .map_or(0, |i| i + 1);
+    let section = text.get(start..)?;
+    keys.iter().find_map(|key| {
+        let key = key.split(['.', '[']).next().unwrap_or(key);
+        let mut offset = start;
+        for (number, line) in section.split_inclusive('\n').enumerate() {
+            let trimmed = line.trim();
+            if number > 0 && is_table_header(trimmed) {
+                break;
             }
+            if let Some(rest) = trimmed.strip_prefix(key) {
+                if rest.trim_start().starts_with('=') {
+                    return Some(line_of(text, offset));
+                }
+            }
+            offset += line.len();
         }
-        offset += line.len();
-    }
-    None
+        None
+    })
+}
+
+/// `[name]` or `[[name]]`: a table header, not the line of an array.
+fn is_table_header(line: &str) -> bool {
+    let inner = line.trim_start_matches('[').trim_end_matches(']');
+    line.starts_with('[')
+        && line.ends_with(']')
+        && !inner.is_empty()
+        && inner
+            .chars()
+            .all(|c| c.is_alphanumeric() || c == '_' || c == '.' || c == '-')
 }

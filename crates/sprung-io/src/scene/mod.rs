@@ -53,8 +53,9 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, SceneError> {
     })?;
     let sim_span = file.sim.span();
     let at = |span: std::ops::Range<usize>, key: &str, message: String| {
+        let keys = body::aliases(key);
         let line =
-            line_of_key(text, span.clone(), key).unwrap_or_else(|| line_of(text, span.start));
+            line_of_key(text, span.start, &keys).unwrap_or_else(|| line_of(text, span.start));
         SceneError::new(path, Some(line), message)
     };
     let sim = file.sim.get_ref();

@@ -1,0 +1,349 @@
+//! The command-line contract of DESIGN.md, driven through the real binary:
+//! outputs, exit codes, blow-up handling and bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn sprung(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sprung"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the sprung binary runs")
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write scene");
+    path
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Rows of a CSV file: header, then the records.
+fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let content = std::fs::read_to_string(path).expect("csv exists");
+    let mut lines = content.lines();
+    let header = lines
+        .next()
+        .expect("header")
+        .split(',')
+        .map(String::from)
+        .collect();
+    let rows = lines
+        .map(|l| {
+            l.split(',')
+                .map(|v| {
+                    if v.is_empty() {
+                        0.0
+                    } else {
+                        v.parse().expect("number")
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    (header, rows)
+}
+
+/// Nothing left half-written anywhere under `dir`.
+fn assert_no_partial_files(dir: &Path) {
+    for entry in std::fs::read_dir(dir).expect("dir").flatten() {
+        let path = entry.path();
+        assert!(
+            !path.to_string_lossy().ends_with(".partial"),
+            "left behind: {}",
+            path.display()
+        );
+        if path.is_dir() {
+            assert_no_partial_files(&path);
+        }
+    }
+}
+
+const PENDULUM: &str = r#"[sim]
+dt = 1e-3
+steps = 100
+every = 10
+
+[[body]]
+name = "bob"
+particles = [[0.0, 0.0], [1.0, 0.0]]
+springs = [[0, 1]]
+stiffness = 1000.0
+mass = 0.5
+pinned = [0]
+"#;
+
+#[test]
+fn run_writes_the_contracted_columns() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "pendulum.toml", PENDULUM);
+    let output = sprung(
+        &[
+            "run",
+            "pendulum.toml",
+            "--out",
+            "res",
+            "--probe",
+            "1",
+            "--quiet",
+        ],
+        dir.path(),
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert!(
+        output.stdout.is_empty() && output.stderr.is_empty(),
+        "--quiet prints nothing"
+    );
+    let (header, rows) = csv(&dir.path().join("res/diagnostics.csv"));
+    let expected = "step,time,kinetic,spring,gravity,gas,total,contact,bob.volume,bob.pressure,bob.cx,bob.cy,bob.cz,p1.x,p1.y,p1.z";
+    assert_eq!(header.join(","), expected);
+    // Step 0, then every 10th of 100 steps.
+    assert_eq!(rows.len(), 11);
+    assert_eq!(rows[10][0], 100.0);
+    assert!(
+        (rows[10][1] - 0.1).abs() < 1e-15,
+        "time after 100 steps of 1 ms"
+    );
+    // The bob falls: its probed y goes down, and total = sum of the terms.
+    assert!(rows[10][14] < 0.0);
+    for row in &rows {
+        let sum: f64 = row[2..6].iter().sum::<f64>() + row[7];
+        assert!((row[6] - sum).abs() <= 1e-12 * sum.abs().max(1.0));
+    }
+    assert_no_partial_files(dir.path());
+}
+
+#[test]
+fn steps_time_every_and_integrator_options() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "p.toml", PENDULUM);
+    let run = |args: &[&str]| {
+        let mut all = vec!["run", "p.toml", "--out", "o", "--quiet"];
+        all.extend_from_slice(args);
+        let output = sprung(&all, dir.path());
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        csv(&dir.path().join("o/diagnostics.csv")).1
+    };
+    assert_eq!(
+        run(&["--steps", "30", "--every", "7"]).len(),
+        1 + 4 + 1,
+        "rows at 0, 7, 14, 21, 28 and the last step 30"
+    );
+    let rows = run(&["--time", "0.05", "--every", "1"]);
+    assert_eq!(rows.len(), 51);
+    let rk4 = run(&["--integrator", "rk4", "--steps", "100"]);
+    let euler = run(&["--integrator", "euler", "--steps", "100"]);
+    assert_ne!(
+        rk4.last(),
+        euler.last(),
+        "the integrator override takes effect"
+    );
+}
+
+#[test]
+fn frames_in_vtk_and_obj() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "p.toml", PENDULUM);
+    for format in ["vtk", "obj"] {
+        let output = sprung(
+            &[
+                "run", "p.toml", "--out", format, "--format", format, "--quiet",
+            ],
+            dir.path(),
+        );
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        let frames = dir.path().join(format).join("frames");
+        let mut names: Vec<String> = std::fs::read_dir(&frames)
+            .expect("frames dir")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(names.len(), 11);
+        assert_eq!(names[0], format!("frame_000000.{format}"));
+        assert_eq!(names[10], format!("frame_000010.{format}"));
+        let last = std::fs::read_to_string(frames.join(&names[10])).expect("frame");
+        match format {
+            "vtk" => {
+                assert!(last.starts_with("# vtk DataFile Version 3.0"));
+                assert!(last.contains("POINTS 2 double") && last.contains("LINES 1 3\n2 0 1"));
+            }
+            _ => assert_eq!(last.lines().filter(|l| l.starts_with("v ")).count(), 2),
+        }
+    }
+}
+
+#[test]
+fn blow_up_stops_with_step_and_stable_dt_and_no_nan() {
+    // Explicit Euler on a 1000 N/m, 0.01 kg chain: ω_max = 2√(k/m) ≈ 632 /s,
+    // so the stable estimate is 1/√(k/m) ≈ 3.2e-3 s; dt = 0.02 s is far above.
+    let scene = r#"[sim]
+dt = 0.02
+integrator = "euler"
+steps = 100000
+every = 1
+
+[[body]]
+name = "chain"
+rope = { particles = 6, length = 1.0 }
+mass = 0.01
+stiffness = 1000.0
+"#;
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "boom.toml", scene);
+    let output = sprung(&["run", "boom.toml", "--out", "o"], dir.path());
+    assert_eq!(
+        output.status.code(),
+        Some(3),
+        "a blow-up exits with status 3"
+    );
+    let stderr = text(&output.stderr);
+    assert!(stderr.contains("blew up at step"), "{stderr}");
+    assert!(
+        stderr.contains("stable estimate is dt <= 3.162e-3 s"),
+        "{stderr}"
+    );
+    let content =
+        std::fs::read_to_string(dir.path().join("o/diagnostics.csv")).expect("diagnostics kept");
+    let lower = content.to_lowercase();
+    assert!(
+        !lower.contains("nan") && !lower.contains("inf"),
+        "no non-finite value written"
+    );
+    let rows = content.lines().count() - 1;
+    assert!(
+        rows > 1 && rows < 100_000,
+        "stopped early with the good rows ({rows})"
+    );
+    assert_no_partial_files(dir.path());
+}
+
+#[test]
+fn bad_scene_exits_1_and_writes_nothing() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(
+        dir.path(),
+        "bad.toml",
+        &PENDULUM.replace("mass = 0.5", "mass = -0.5"),
+    );
+    let output = sprung(&["run", "bad.toml", "--out", "o"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(
+        text(&output.stderr).trim(),
+        "error: bad.toml:11: body \"bob\": `mass` = -0.5: mass must be positive and finite (kg)"
+    );
+    assert!(
+        !dir.path().join("o").exists(),
+        "nothing written for a refused scene"
+    );
+}
+
+#[test]
+fn missing_scene_file() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let output = sprung(&["run", "nowhere.toml"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    assert!(text(&output.stderr).contains("nowhere.toml: cannot read the scene file"));
+}
+
+#[test]
+fn bad_options_are_refused_before_the_run() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "p.toml", PENDULUM);
+    for (args, message) in [
+        (vec!["--probe", "9"], "--probe 9: no such particle"),
+        (vec!["--steps", "0"], "--steps must be at least 1"),
+        (vec!["--time=-1"], "--time -1"),
+        (vec!["--every", "0"], "--every must be at least 1"),
+    ] {
+        let mut all = vec!["run", "p.toml", "--out", "o"];
+        all.extend(args);
+        let output = sprung(&all, dir.path());
+        assert_eq!(output.status.code(), Some(1), "{all:?}");
+        assert!(
+            text(&output.stderr).contains(message),
+            "{}",
+            text(&output.stderr)
+        );
+        assert!(!dir.path().join("o").exists());
+    }
+    let output = sprung(&["run", "p.toml", "--format", "png"], dir.path());
+    assert_eq!(
+        output.status.code(),
+        Some(2),
+        "clap refuses an unknown format"
+    );
+}
+
+#[test]
+fn demo_list_names_every_demo() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let output = sprung(&["demo", "--list"], dir.path());
+    let listing = text(&output.stdout);
+    for name in [
+        "cloth",
+        "rope",
+        "rope_one_sided",
+        "jelly",
+        "chain",
+        "lattice2d",
+        "oscillator",
+    ] {
+        assert!(
+            listing.lines().any(|l| l.starts_with(name)),
+            "{name} missing from\n{listing}"
+        );
+    }
+    let output = sprung(&["demo", "nosuch"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    assert!(text(&output.stderr).contains("no demo named \"nosuch\""));
+}
+
+#[test]
+fn default_demo_runs_and_says_where_its_results_went() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let output = sprung(&["demo"], dir.path());
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let stdout = text(&output.stdout);
+    assert!(stdout.contains("results in out/demo/cloth"), "{stdout}");
+    assert!(dir.path().join("out/demo/cloth/diagnostics.csv").exists());
+    assert!(dir
+        .path()
+        .join("out/demo/cloth/frames/frame_000000.vtk")
+        .exists());
+    // stderr is not a terminal here: no progress bar is drawn.
+    assert!(output.stderr.is_empty(), "{}", text(&output.stderr));
+}
+
+#[test]
+fn oscillator_demo_compares_integrators() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let output = sprung(&["demo", "oscillator", "--quiet"], dir.path());
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let total = |kind: &str| -> (f64, f64) {
+        let (header, rows) = csv(&dir
+            .path()
+            .join(format!("out/demo/oscillator/{kind}/diagnostics.csv")));
+        let column = header
+            .iter()
+            .position(|h| h == "total")
+            .expect("total column");
+        (rows[0][column], rows[rows.len() - 1][column])
+    };
+    // E = ½ k A² = ½ · 4π² · 0.2² ≈ 0.79 J. Explicit Euler multiplies it by
+    // (1 + (ω dt)²) each step: (1 + 0.0039)^2000 ≈ 2600 after 20 s.
+    let (start, end) = total("euler");
+    assert!(
+        end > 100.0 * start,
+        "explicit Euler gains energy: {start} -> {end}"
+    );
+    // Verlet's energy error is bounded by about (ω dt)²/4 ≈ 1e-3 of E.
+    let (start, end) = total("verlet");
+    assert!(
+        (end - start).abs() < 2e-3 * start,
+        "Verlet keeps its energy: {start} -> {end}"
+    );
+}
