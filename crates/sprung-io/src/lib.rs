@@ -1,1 +1,3 @@
 //! Scene files, meshes and exports.
+
+pub mod mesh;
