@@ -1,11 +1,13 @@
 //! # sprung-io: scene files, mesh files and exports
 //!
 //! Everything of sprung that touches files: TOML scene files read into a
-//! [`sprung::World`] ([`scene`]), and the outputs of a run
-//! ([`export`]: `diagnostics.csv`, VTK and OBJ frame sequences), each written
-//! completely or not at all.
+//! [`sprung::World`] ([`scene`]), mesh files from modelling tools
+//! ([`mesh`]: 3D Studio ASCII, OBJ, OFF, STL) with their topology checks,
+//! and the outputs of a run ([`export`]: `diagnostics.csv`, VTK and OBJ
+//! frame sequences), each written completely or not at all.
 
 pub mod export;
+pub mod mesh;
 pub mod scene;
 
 pub use scene::{load_scene, parse_scene, Scene, SceneError};
