@@ -230,10 +230,10 @@ impl BodyData {
                     });
                 }
                 if value < 0.0 {
-                    return Err(BuildError::OutOfRange {
+                    return Err(BuildError::NegativeSpringCoefficient {
                         field,
+                        spring: index,
                         value,
-                        reason: "must not be negative",
                     });
                 }
             }

@@ -55,6 +55,16 @@ pub enum BuildError {
         /// What the allowed range is.
         reason: &'static str,
     },
+    /// A spring with negative stiffness or damping.
+    #[error("`{field}`[{spring}] = {value}: must not be negative")]
+    NegativeSpringCoefficient {
+        /// Scene key (`stiffness` or `damping`).
+        field: &'static str,
+        /// Spring index.
+        spring: usize,
+        /// The value given (N/m or N·s/m).
+        value: Real,
+    },
     /// A spring naming a particle that does not exist.
     #[error("`springs`[{spring}] = [{first}, {second}]: particle index {bad} is out of range (the body has {particles} particles)")]
     SpringIndexOutOfRange {

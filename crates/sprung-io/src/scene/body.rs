@@ -223,6 +223,7 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         | BuildError::SelfSpring { .. }
         | BuildError::DuplicateSpring { .. }
         | BuildError::ZeroLengthSpring { .. } => "springs",
+        BuildError::NegativeSpringCoefficient { field, .. } => field,
         BuildError::PinnedOutOfRange { .. } => "pinned",
         BuildError::BadFace { .. } => "faces",
         BuildError::DuplicateName(_) => "name",

@@ -33,12 +33,19 @@ impl Shape {
     /// A plane through `point` (m) with outward `normal` (any length but
     /// zero; it is normalised).
     pub fn plane(point: Vec3, normal: Vec3) -> Result<Self, BuildError> {
+        if let Some(value) = point.to_array().into_iter().find(|c| !c.is_finite()) {
+            return Err(BuildError::NotFinite {
+                field: "plane.point",
+                index: 0,
+                value,
+            });
+        }
         let length = normal.length();
-        if !(length.is_finite() && length > 0.0 && point.is_finite()) {
+        if !(length.is_finite() && length > 0.0) {
             return Err(BuildError::OutOfRange {
                 field: "plane.normal",
                 value: length,
-                reason: "the plane needs a finite point and a non-zero, finite normal",
+                reason: "the plane needs a non-zero, finite normal",
             });
         }
         Ok(Shape::Plane {
