@@ -6,6 +6,8 @@ use std::collections::HashMap;
 use std::ops::Range;
 
 use crate::error::BuildError;
+use crate::gas::Gas;
+use crate::surface;
 use crate::{Real, Vec3};
 
 /// One spring of a [`BodyData`], with particle indices local to the body.
@@ -61,6 +63,11 @@ pub struct BodyData {
     /// Triangles (particle indices, counter-clockwise seen from outside) for
     /// normals, wind, pressure and rendering; may be empty.
     pub faces: Vec<[usize; 3]>,
+    /// Segments `[from, to]` of a closed 2D loop in the xy-plane
+    /// (counter-clockwise), the 2D counterpart of `faces`; may be empty.
+    pub segments: Vec<[usize; 2]>,
+    /// The gas inside, for a closed body (`faces` or `segments` closed).
+    pub gas: Option<Gas>,
 }
 
 impl BodyData {
@@ -157,7 +164,47 @@ impl BodyData {
         }
         self.validate_particles(count)?;
         self.validate_springs(count)?;
-        self.validate_faces(count)
+        self.validate_faces(count)?;
+        self.validate_segments(count)?;
+        self.validate_gas()
+    }
+
+    /// True when the faces form a closed, consistently oriented surface, or
+    /// the segments closed loops (so the body encloses a volume or area).
+    pub fn is_closed(&self) -> bool {
+        if !self.faces.is_empty() {
+            surface::check_closed_faces(&self.faces).is_ok()
+        } else {
+            !self.segments.is_empty() && surface::check_closed_loop(&self.segments).is_ok()
+        }
+    }
+
+    fn validate_segments(&self, count: usize) -> Result<(), BuildError> {
+        for (segment, &[a, b]) in self.segments.iter().enumerate() {
+            if a >= count || b >= count || a == b {
+                return Err(BuildError::BadSegment {
+                    segment,
+                    indices: [a, b],
+                    particles: count,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_gas(&self) -> Result<(), BuildError> {
+        let Some(gas) = &self.gas else {
+            return Ok(());
+        };
+        gas.validate()?;
+        let closed = if !self.faces.is_empty() {
+            surface::check_closed_faces(&self.faces)
+        } else if !self.segments.is_empty() {
+            surface::check_closed_loop(&self.segments)
+        } else {
+            return Err(BuildError::GasWithoutSurface);
+        };
+        closed.map_err(|problem| BuildError::OpenSurface { problem })
     }
 
     fn validate_particles(&self, count: usize) -> Result<(), BuildError> {
@@ -328,6 +375,33 @@ pub struct Body {
     pub particles: Range<usize>,
     /// Indices of the body's springs in the world.
     pub springs: Range<usize>,
-    /// Triangles with world particle indices.
+    /// Triangles with world particle indices, counter-clockwise seen from
+    /// outside when the body is closed.
     pub faces: Vec<[u32; 3]>,
+    /// Segments of a closed 2D loop with world particle indices,
+    /// counter-clockwise.
+    pub segments: Vec<[u32; 2]>,
+    /// Whether `faces` (or `segments`) enclose a volume (area).
+    pub closed: bool,
+    /// The gas inside, if any.
+    pub gas: Option<Gas>,
+}
+
+impl Body {
+    /// True for a 2D body (bounded by segments in the xy-plane).
+    pub fn is_planar(&self) -> bool {
+        self.faces.is_empty() && !self.segments.is_empty()
+    }
+
+    /// The exact enclosed volume (m³), or area in 2D (m²), at `position`;
+    /// `None` for a body that is not closed.
+    pub fn enclosed_volume(&self, position: &[Vec3]) -> Option<Real> {
+        if !self.closed {
+            None
+        } else if self.is_planar() {
+            Some(surface::enclosed_area(position, &self.segments))
+        } else {
+            Some(surface::enclosed_volume(position, &self.faces))
+        }
+    }
 }

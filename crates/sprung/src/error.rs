@@ -4,6 +4,7 @@
 //! Every message names the offending field (with the scene-file key the
 //! user wrote) and the index, so a loader can add the file and line.
 
+use crate::surface::SurfaceProblem;
 use crate::Real;
 use thiserror::Error;
 
@@ -132,6 +133,25 @@ pub enum BuildError {
         reason: &'static str,
         /// Number of particles.
         particles: usize,
+    },
+    /// A 2D segment naming a particle that does not exist, or joining one to itself.
+    #[error("`segments`[{segment}] = {indices:?}: a segment needs two different particles in range (the body has {particles} particles)")]
+    BadSegment {
+        /// Segment index.
+        segment: usize,
+        /// The two particle indices.
+        indices: [usize; 2],
+        /// Number of particles.
+        particles: usize,
+    },
+    /// A gas in a body with no faces or segments.
+    #[error("`gas` needs a closed surface: give the body `faces` (3D) or `segments` (2D), or use a ring, sphere or closed mesh")]
+    GasWithoutSurface,
+    /// A gas in a body whose surface is not closed.
+    #[error("`gas` needs a closed surface, but {problem}")]
+    OpenSurface {
+        /// The first problem found.
+        problem: SurfaceProblem,
     },
     /// Two bodies with the same name.
     #[error("a body named \"{0}\" already exists: body names must be unique")]

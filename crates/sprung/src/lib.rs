@@ -27,10 +27,12 @@ pub mod build;
 pub mod collide;
 pub mod error;
 pub mod forces;
+pub mod gas;
 pub mod integrate;
 pub mod measure;
 pub mod particles;
 pub mod springs;
+pub mod surface;
 pub mod world;
 
 /// The one real number type of the engine (SI units throughout).
@@ -41,6 +43,7 @@ pub type Vec3 = glam::DVec3;
 pub use body::{Body, BodyData, SpringData};
 pub use collide::{Collider, ContactResponse, Shape};
 pub use error::{BuildError, StepError};
+pub use gas::{Gas, VolumeModel};
 pub use integrate::IntegratorKind;
 pub use measure::Energies;
 pub use particles::Particles;

@@ -3,8 +3,8 @@
 //!
 //! One step is a short sequence of named stages:
 //!
-//! 1. **clear forces** and 2. **accumulate forces** (gravity, springs, air
-//!    drag, the extra forces in [`World::forces`], penalty contacts), run by
+//! 1. **clear forces** and 2. **accumulate forces** (gravity, springs, gas
+//!    pressure, air drag, the extra forces in [`World::forces`], penalty contacts), run by
 //!    the integrator through [`Dynamics`] as many times as it needs;
 //! 3. **integrate** positions and velocities;
 //! 4. **constrain**: the place for distance constraints (rigid rods), which
@@ -16,7 +16,7 @@
 use crate::body::{Body, BodyData};
 use crate::collide::{self, Collider};
 use crate::error::{BlowUpReason, BuildError, StepError};
-use crate::forces::{AirDrag, Force, ForceContext, Gravity, SpringForce};
+use crate::forces::{self, AirDrag, Force, ForceContext, GasPressure, Gravity, SpringForce};
 use crate::integrate::{Derivative, Integrator, IntegratorKind};
 use crate::measure::{self, Energies};
 use crate::particles::Particles;
@@ -138,12 +138,17 @@ impl World {
                 s.one_sided,
             );
         }
-        self.bodies.push(Body {
+        let mut body = Body {
             name: name.to_string(),
             particles: offset..self.particles.len(),
             springs: first_spring..self.springs.len(),
             faces: data.faces.iter().map(|f| f.map(index)).collect(),
-        });
+            segments: data.segments.iter().map(|s| s.map(index)).collect(),
+            closed: data.is_closed(),
+            gas: data.gas.clone(),
+        };
+        orient_outward(&mut body, &self.particles.position);
+        self.bodies.push(body);
         Ok(self.bodies.len() - 1)
     }
 
@@ -272,6 +277,7 @@ impl World {
         }
         .add_energy(&context, &mut energies);
         SpringForce.add_energy(&context, &mut energies);
+        GasPressure.add_energy(&context, &mut energies);
         for force in &self.forces {
             force.add_energy(&context, &mut energies);
         }
@@ -279,6 +285,17 @@ impl World {
             sum + c.contact_energy(&self.particles.position)
         });
         energies
+    }
+
+    /// Exact enclosed volume (m³), or area for a 2D body (m²), of body
+    /// `body`; `None` if it is not closed.
+    pub fn volume(&self, body: usize) -> Option<Real> {
+        self.bodies[body].enclosed_volume(&self.particles.position)
+    }
+
+    /// Pressure of body `body`'s gas (Pa; N/m for a 2D body), `None` without a gas.
+    pub fn pressure(&self, body: usize) -> Option<Real> {
+        forces::pressure(&self.bodies[body], &self.particles.position, self.time)
     }
 
     /// Total linear momentum (kg·m/s).
@@ -306,6 +323,15 @@ impl World {
             springs: &self.springs,
             bodies: &self.bodies,
         }
+    }
+}
+
+/// Turn a closed body's faces (or segments) around if they enclose a
+/// negative volume, so that their normals point out.
+fn orient_outward(body: &mut Body, position: &[Vec3]) {
+    if body.enclosed_volume(position).is_some_and(|v| v < 0.0) {
+        body.faces.iter_mut().for_each(|f| f.swap(1, 2));
+        body.segments.iter_mut().for_each(|s| s.swap(0, 1));
     }
 }
 
@@ -340,6 +366,7 @@ impl Dynamics<'_> {
         }
         .accumulate(&context, force);
         SpringForce.accumulate(&context, force);
+        GasPressure.accumulate(&context, force);
         AirDrag {
             coefficient: self.settings.air_drag,
         }

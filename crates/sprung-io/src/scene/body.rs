@@ -226,6 +226,8 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::NegativeSpringCoefficient { field, .. } => field,
         BuildError::PinnedOutOfRange { .. } => "pinned",
         BuildError::BadFace { .. } => "faces",
+        BuildError::BadSegment { .. } => "segments",
+        BuildError::GasWithoutSurface | BuildError::OpenSurface { .. } => "gas",
         BuildError::DuplicateName(_) => "name",
     }
 }

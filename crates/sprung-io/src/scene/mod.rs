@@ -2,7 +2,7 @@
 //!
 //! A scene has `[sim]` (time step `dt`, `integrator`, `gravity`,
 //! `duration` or `steps`, `air_drag`, `every`), any number of `[[body]]`
-//! tables (see [`body`] for the keys) and `[[collider]]` tables. Every
+//! tables (see the README for the keys) and `[[collider]]` tables. Every
 //! unknown key is an error naming it; every error names the file and the
 //! line. Nothing is half-built: a scene either loads whole or not at all.
 

@@ -1,5 +1,5 @@
 //! Builders: functions that lay out the particles, springs and faces of a
-//! common body (PHYSICS.md §2) as a [`BodyData`], ready for
+//! common body (PHYSICS.md §2) as a [`BodyData`](crate::BodyData), ready for
 //! [`crate::World::add_body`]. Every particle has mass 1 kg and every spring
 //! zero stiffness and damping until the caller sets them with the
 //! `BodyData::with_*` methods.
@@ -9,11 +9,17 @@
 
 mod cloth;
 mod lattice;
+mod ring;
 mod rope;
+mod sphere;
+mod surface;
 
 pub use cloth::{cloth, ClothSprings};
 pub use lattice::lattice;
+pub use ring::ring;
 pub use rope::rope;
+pub use sphere::{icosphere, MAX_SUBDIVISIONS};
+pub use surface::{surface, SurfaceSprings};
 
 use crate::error::BuildError;
 use crate::Real;

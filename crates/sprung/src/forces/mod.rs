@@ -11,10 +11,12 @@
 
 mod drag;
 mod gravity;
+mod pressure;
 mod spring;
 
 pub use drag::AirDrag;
 pub use gravity::Gravity;
+pub use pressure::{pressure, GasPressure};
 pub use spring::{spring_energy, SpringForce};
 
 use crate::body::Body;

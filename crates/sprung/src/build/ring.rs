@@ -1,0 +1,35 @@
+//! A ring: the 2D soft ball of the textbook (PHYSICS.md §2), `N` particles
+//! on a circle joined into a closed loop.
+
+use super::{check_count, check_length};
+use crate::body::{BodyData, SpringData};
+use crate::error::BuildError;
+use crate::{Real, Vec3};
+
+/// A ring of `particles` particles (at least 3) on a circle of `radius` (m)
+/// centred on the origin in the xy-plane, counter-clockwise from +x; a
+/// spring joins each particle to the next, closing the loop, and the loop's
+/// segments bound the area a gas fills.
+pub fn ring(particles: usize, radius: Real) -> Result<BodyData, BuildError> {
+    check_count(
+        "ring.particles",
+        particles,
+        3,
+        "a ring needs at least 3 particles",
+    )?;
+    check_length("ring.radius", radius)?;
+    let position = (0..particles)
+        .map(|k| {
+            let angle = std::f64::consts::TAU * k as Real / particles as Real;
+            Vec3::new(radius * angle.cos(), radius * angle.sin(), 0.0)
+        })
+        .collect();
+    let mut body = BodyData::from_positions(position);
+    body.segments = (0..particles).map(|k| [k, (k + 1) % particles]).collect();
+    body.springs = body
+        .segments
+        .iter()
+        .map(|&[a, b]| SpringData::between(a, b))
+        .collect();
+    Ok(body)
+}

@@ -1,0 +1,85 @@
+//! An icosphere: the icosahedron with each triangle split in four
+//! `subdivisions` times and every vertex pushed onto the sphere.
+//! `10 · 4ˢ + 2` vertices: 12, 42, 162, 642, 2562, 10242, ...
+
+use std::collections::HashMap;
+
+use super::{check_length, surface, SurfaceSprings};
+use crate::body::BodyData;
+use crate::error::BuildError;
+use crate::{Real, Vec3};
+
+/// Most subdivisions accepted (7 gives 163 842 vertices).
+pub const MAX_SUBDIVISIONS: usize = 7;
+
+/// A closed sphere of `radius` (m) centred on the origin, triangulated as an
+/// icosphere with `subdivisions` levels, faces counter-clockwise seen from
+/// outside, springs on every edge and, per `springs`, across every pair of
+/// adjacent triangles and to a centre particle.
+pub fn icosphere(
+    radius: Real,
+    subdivisions: usize,
+    springs: SurfaceSprings,
+) -> Result<BodyData, BuildError> {
+    check_length("sphere.radius", radius)?;
+    if subdivisions > MAX_SUBDIVISIONS {
+        return Err(BuildError::OutOfRange {
+            field: "sphere.subdivisions",
+            value: subdivisions as Real,
+            reason: "at most 7 subdivisions (163 842 vertices)",
+        });
+    }
+    let (mut points, mut faces) = icosahedron();
+    for _ in 0..subdivisions {
+        faces = subdivide(&mut points, &faces);
+    }
+    let position = points.into_iter().map(|p| radius * p.normalize()).collect();
+    surface(position, faces, springs)
+}
+
+/// The unit-circumradius icosahedron, faces turned outward.
+#[rustfmt::skip]
+fn icosahedron() -> (Vec<Vec3>, Vec<[usize; 3]>) {
+    let phi = (1.0 + 5.0_f64.sqrt()) / 2.0;
+    let points: Vec<Vec3> = [
+        (-1.0, phi, 0.0), (1.0, phi, 0.0), (-1.0, -phi, 0.0), (1.0, -phi, 0.0),
+        (0.0, -1.0, phi), (0.0, 1.0, phi), (0.0, -1.0, -phi), (0.0, 1.0, -phi),
+        (phi, 0.0, -1.0), (phi, 0.0, 1.0), (-phi, 0.0, -1.0), (-phi, 0.0, 1.0),
+    ]
+    .into_iter()
+    .map(|(x, y, z)| Vec3::new(x, y, z).normalize())
+    .collect();
+    let mut faces = vec![
+        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
+        [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
+        [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
+        [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+    ];
+    for face in &mut faces {
+        let [a, b, c] = face.map(|i| points[i]);
+        if (b - a).cross(c - a).dot(a + b + c) < 0.0 {
+            face.swap(1, 2);
+        }
+    }
+    (points, faces)
+}
+
+/// Split every triangle in four through its edge midpoints (shared between
+/// neighbours), keeping the orientation.
+fn subdivide(points: &mut Vec<Vec3>, faces: &[[usize; 3]]) -> Vec<[usize; 3]> {
+    let mut midpoints: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut midpoint = |a: usize, b: usize, points: &mut Vec<Vec3>| {
+        *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+            points.push(0.5 * (points[a] + points[b]));
+            points.len() - 1
+        })
+    };
+    let mut refined = Vec::with_capacity(faces.len() * 4);
+    for &[a, b, c] in faces {
+        let ab = midpoint(a, b, points);
+        let bc = midpoint(b, c, points);
+        let ca = midpoint(c, a, points);
+        refined.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+    }
+    refined
+}
