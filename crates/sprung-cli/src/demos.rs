@@ -26,9 +26,39 @@ macro_rules! scene {
 }
 
 /// The demo run when no name is given.
-const DEFAULT_DEMO: &str = "cloth";
+const DEFAULT_DEMO: &str = "ball2d";
 
 const DEMOS: &[Demo] = &[
+    Demo {
+        name: "ball2d",
+        about: "the textbook 2D ball (a ring of 17) dropped on a floor, with and without gas",
+        scene: scene!("ball2d.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "ball3d",
+        about: "a gas-filled icosphere dropped on a floor: it squashes and bounces",
+        scene: scene!("ball3d.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "pillow",
+        about: "the textbook cube (cube.asc) inflating into a rounded pillow",
+        scene: scene!("pillow.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "horse",
+        about: "the Cyberware horse mesh inflated and dropped on a floor",
+        scene: scene!("horse.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "balloon",
+        about: "a balloon that starts to leak after 3 s, deflates and sags",
+        scene: scene!("balloon.toml"),
+        every_integrator: false,
+    },
     Demo {
         name: "cloth",
         about: "a cloth hanging from two corners",

@@ -284,6 +284,11 @@ fn demo_list_names_every_demo() {
     let output = sprung(&["demo", "--list"], dir.path());
     let listing = text(&output.stdout);
     for name in [
+        "ball2d",
+        "ball3d",
+        "pillow",
+        "horse",
+        "balloon",
         "cloth",
         "rope",
         "rope_one_sided",
@@ -308,14 +313,43 @@ fn default_demo_runs_and_says_where_its_results_went() {
     let output = sprung(&["demo"], dir.path());
     assert!(output.status.success(), "{}", text(&output.stderr));
     let stdout = text(&output.stdout);
-    assert!(stdout.contains("results in out/demo/cloth"), "{stdout}");
-    assert!(dir.path().join("out/demo/cloth/diagnostics.csv").exists());
+    assert!(stdout.contains("results in out/demo/ball2d"), "{stdout}");
+    assert!(dir.path().join("out/demo/ball2d/diagnostics.csv").exists());
     assert!(dir
         .path()
-        .join("out/demo/cloth/frames/frame_000000.vtk")
+        .join("out/demo/ball2d/frames/frame_000000.vtk")
         .exists());
     // stderr is not a terminal here: no progress bar is drawn.
     assert!(output.stderr.is_empty(), "{}", text(&output.stderr));
+    // The ring with gas keeps its area on the floor, the one without folds
+    // up: the claim the demo shows. Both start as the same 17-gon.
+    let (header, rows) = csv(&dir.path().join("out/demo/ball2d/diagnostics.csv"));
+    let column = |name: &str| header.iter().position(|h| h == name).expect(name);
+    let (first, last) = (&rows[0], &rows[rows.len() - 1]);
+    let (gas, flat) = (column("ball.volume"), column("no_gas.volume"));
+    assert!(
+        last[gas] > 0.9 * first[gas],
+        "the gas ball keeps its area: {} -> {}",
+        first[gas],
+        last[gas]
+    );
+    assert!(
+        last[flat] < 0.5 * first[flat],
+        "without gas it collapses: {} -> {}",
+        first[flat],
+        last[flat]
+    );
+    assert!(last[column("ball.pressure")] > 0.0);
+    let content =
+        std::fs::read_to_string(dir.path().join("out/demo/ball2d/diagnostics.csv")).expect("csv");
+    let no_gas_pressure = column("no_gas.pressure");
+    assert!(
+        content
+            .lines()
+            .skip(1)
+            .all(|l| l.split(',').nth(no_gas_pressure) == Some("")),
+        "no pressure without gas"
+    );
 }
 
 #[test]

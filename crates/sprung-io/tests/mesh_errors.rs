@@ -2,36 +2,13 @@
 //! the line where there is one, the object where there is one, and the
 //! problem.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::meshes_dir;
+
+use std::path::Path;
 
 use sprung_io::mesh::{parse_mesh, MeshError, MeshErrorKind, MeshFormat, TriangleMesh};
-
-/// `shared/meshes`, the repository's sibling folder. A missing folder fails
-/// the test: these checks must not be skipped silently.
-fn meshes_dir() -> PathBuf {
-    let beside = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/meshes"
-    ));
-    if beside.is_dir() {
-        return beside.to_path_buf();
-    }
-    match std::env::var_os("SPRUNG_SHARED_DIR") {
-        Some(dir) => {
-            let meshes = PathBuf::from(dir).join("meshes");
-            assert!(
-                meshes.is_dir(),
-                "SPRUNG_SHARED_DIR/meshes ({}) is not a directory",
-                meshes.display()
-            );
-            meshes
-        }
-        None => panic!(
-            "shared meshes not found at {} and SPRUNG_SHARED_DIR is not set",
-            beside.display()
-        ),
-    }
-}
 
 fn shared_text(name: &str) -> String {
     let path = meshes_dir().join(name);

@@ -3,40 +3,17 @@
 //! Python script) in `shared/meshes/SOURCES.md`, and against small meshes
 //! written here whose geometry is known exactly.
 
+mod common;
+
+use common::meshes_dir;
+
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use sprung_io::mesh::{
     closed_surface, edge_report, load_mesh_file, parse_mesh, parse_obj, parse_off, parse_stl,
     select_object, signed_volume, unique_edges, MeshErrorKind, MeshFormat, TriangleMesh,
 };
-
-/// `shared/meshes`, the repository's sibling folder. A missing folder fails
-/// the test: these checks must not be skipped silently.
-fn meshes_dir() -> PathBuf {
-    let beside = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/meshes"
-    ));
-    if beside.is_dir() {
-        return beside.to_path_buf();
-    }
-    match std::env::var_os("SPRUNG_SHARED_DIR") {
-        Some(dir) => {
-            let meshes = PathBuf::from(dir).join("meshes");
-            assert!(
-                meshes.is_dir(),
-                "SPRUNG_SHARED_DIR/meshes ({}) is not a directory",
-                meshes.display()
-            );
-            meshes
-        }
-        None => panic!(
-            "shared meshes not found at {} and SPRUNG_SHARED_DIR is not set",
-            beside.display()
-        ),
-    }
-}
 
 fn load(name: &str) -> Vec<TriangleMesh> {
     let path = meshes_dir().join(name);

@@ -8,40 +8,17 @@
 //! generator with fixed seeds makes every run the same; a panic is reported
 //! with the file, the case number and the mutations that caused it.
 
+mod common;
+
+use common::meshes_dir;
+
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use sprung_io::mesh::{
     bending_pairs, closed_surface, edge_report, parse_mesh, select_object, signed_volume,
     unique_edges, MeshFormat,
 };
-
-/// `shared/meshes`, the repository's sibling folder. A missing folder fails
-/// the test: these checks must not be skipped silently.
-fn meshes_dir() -> PathBuf {
-    let beside = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/meshes"
-    ));
-    if beside.is_dir() {
-        return beside.to_path_buf();
-    }
-    match std::env::var_os("SPRUNG_SHARED_DIR") {
-        Some(dir) => {
-            let meshes = PathBuf::from(dir).join("meshes");
-            assert!(
-                meshes.is_dir(),
-                "SPRUNG_SHARED_DIR/meshes ({}) is not a directory",
-                meshes.display()
-            );
-            meshes
-        }
-        None => panic!(
-            "shared meshes not found at {} and SPRUNG_SHARED_DIR is not set",
-            beside.display()
-        ),
-    }
-}
 
 /// Marsaglia's xorshift64: enough to scatter mutations, fully reproducible.
 struct XorShift(u64);

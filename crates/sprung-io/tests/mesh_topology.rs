@@ -1,39 +1,16 @@
 //! Topology checks: volume by the divergence theorem, closedness,
 //! orientation repair, and the edges and bending pairs a body is built from.
 
+mod common;
+
+use common::meshes_dir;
+
 use std::path::{Path, PathBuf};
 
 use sprung_io::mesh::{
     bending_pairs, closed_surface, edge_report, load_mesh_file, select_object, signed_volume,
     unique_edges, MeshErrorKind, TriangleMesh,
 };
-
-/// `shared/meshes`, the repository's sibling folder. A missing folder fails
-/// the test: these checks must not be skipped silently.
-fn meshes_dir() -> PathBuf {
-    let beside = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/meshes"
-    ));
-    if beside.is_dir() {
-        return beside.to_path_buf();
-    }
-    match std::env::var_os("SPRUNG_SHARED_DIR") {
-        Some(dir) => {
-            let meshes = PathBuf::from(dir).join("meshes");
-            assert!(
-                meshes.is_dir(),
-                "SPRUNG_SHARED_DIR/meshes ({}) is not a directory",
-                meshes.display()
-            );
-            meshes
-        }
-        None => panic!(
-            "shared meshes not found at {} and SPRUNG_SHARED_DIR is not set",
-            beside.display()
-        ),
-    }
-}
 
 fn load_one(name: &str) -> (TriangleMesh, PathBuf) {
     let path = meshes_dir().join(name);

@@ -40,8 +40,9 @@ impl Diagnostics {
         })
     }
 
-    /// Append a row for the world's current state. Volume and pressure are
-    /// left empty for bodies without an enclosed gas.
+    /// Append a row for the world's current state. Volume (area in 2D) is
+    /// left empty for bodies that are not closed, pressure for bodies
+    /// without a gas.
     pub fn record(&mut self, world: &World) -> io::Result<()> {
         let e = world.energies();
         let mut row = format!(
@@ -55,9 +56,14 @@ impl Diagnostics {
             e.total(),
             e.contact
         );
+        let optional = |value: Option<f64>| value.map(|v| v.to_string()).unwrap_or_default();
         for index in 0..world.bodies.len() {
             let c = world.centroid(index);
-            row.push_str(&format!(",,,{},{},{}", c.x, c.y, c.z));
+            let (volume, pressure) = (
+                optional(world.volume(index)),
+                optional(world.pressure(index)),
+            );
+            row.push_str(&format!(",{volume},{pressure},{},{},{}", c.x, c.y, c.z));
         }
         for &p in &self.probes {
             let x = world.particles.position[p];

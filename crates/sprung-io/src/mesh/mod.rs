@@ -9,7 +9,8 @@
 //! edge-manifold, orientable) and orients it outward; [`unique_edges`] and
 //! [`bending_pairs`] give the springs of a mesh body.
 //!
-//! This module does not depend on the `sprung` engine.
+//! Only the edge and bending-pair functions come from the `sprung` engine,
+//! which builds surface bodies with them.
 
 mod asc;
 mod error;

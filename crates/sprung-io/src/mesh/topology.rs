@@ -12,7 +12,7 @@
 //! `[lower, higher]` vertex index, so "the first offending edge" is well
 //! defined and stable.
 
-use std::collections::{HashMap, HashSet, VecDeque};
+use std::collections::{HashMap, VecDeque};
 use std::path::Path;
 
 use super::error::{MeshError, MeshErrorKind};
@@ -133,51 +133,9 @@ pub fn edge_report(triangles: &[[usize; 3]]) -> EdgeReport {
     report
 }
 
-/// The unique undirected edges `[lower, higher]`, in order of first
-/// appearance: one spring per edge. Degenerate triangles add only their
-/// proper edges.
-pub fn unique_edges(triangles: &[[usize; 3]]) -> Vec<[usize; 2]> {
-    let mut seen = HashSet::with_capacity(triangles.len() * 2);
-    let mut edges = Vec::with_capacity(triangles.len() * 3 / 2);
-    for &[a, b, c] in triangles {
-        for (u, v) in [(a, b), (b, c), (c, a)] {
-            let key = [u.min(v), u.max(v)];
-            if u != v && seen.insert(key) {
-                edges.push(key);
-            }
-        }
-    }
-    edges
-}
-
-/// For every edge shared by exactly two triangles, the pair of vertices
-/// opposite it `[lower, higher]`: a bending spring across the two triangles
-/// resists folding the surface along the edge. Pairs are deduplicated (in
-/// order of first appearance) and pairs that are already edges are left out.
-/// Edges of more than two triangles give no pair.
-pub fn bending_pairs(triangles: &[[usize; 3]]) -> Vec<[usize; 2]> {
-    let edges: HashSet<[usize; 2]> = unique_edges(triangles).into_iter().collect();
-    let opposite = |t: usize, key: [usize; 2]| {
-        triangles
-            .get(t)
-            .and_then(|tri| tri.iter().copied().find(|v| !key.contains(v)))
-    };
-    let mut seen = HashSet::new();
-    let mut pairs = Vec::new();
-    for edge in edge_uses(triangles) {
-        let [(t1, _), (t2, _)] = edge.uses.as_slice() else {
-            continue;
-        };
-        let (Some(p), Some(q)) = (opposite(*t1, edge.key), opposite(*t2, edge.key)) else {
-            continue;
-        };
-        let pair = [p.min(q), p.max(q)];
-        if p != q && !edges.contains(&pair) && seen.insert(pair) {
-            pairs.push(pair);
-        }
-    }
-    pairs
-}
+/// One spring per edge and the bending pairs of a mesh body come from the
+/// engine, which builds surface bodies; re-exported for mesh users.
+pub use sprung::surface::{bending_pairs, unique_edges};
 
 /// Checks that `mesh` is a closed, edge-manifold, orientable surface and
 /// returns it oriented outward.

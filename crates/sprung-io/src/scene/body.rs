@@ -1,7 +1,14 @@
 //! `[[body]]` tables into [`BodyData`].
 //!
 //! A body comes from exactly one builder: `particles` (explicit, with
-//! `springs`, `rest_lengths`, `faces`), `rope`, `cloth` or `lattice`. Keys
+//! `springs`, `rest_lengths`, `faces`, `segments`), `rope`, `cloth`,
+//! `lattice`, `ring`, `sphere` or `mesh` (a file relative to the scene, with
+//! `object` to pick one object). Sphere and mesh bodies get a spring per
+//! edge, `bending` springs across adjacent triangles (default on) and
+//! `internal = "centre"` springs to a centre particle (default `"none"`).
+//! `refine = N` splits each triangle of a mesh in four, N times. A closed
+//! body may carry `gas = { nrt, ramp_time, schedule, leak_rate,
+//! leak_start, volume }`. Keys
 //! every body accepts: `mass` (kg, each particle), `masses` (one per
 //! particle) or `total_mass` (kg, shared), `stiffness` (N/m) and `damping`
 //! (N·s/m) for all springs or one per spring, `one_sided`, `pinned`,
@@ -10,18 +17,31 @@
 //! in that order. Defaults: 1 kg per particle, [`DEFAULT_STIFFNESS`], no
 //! damping; a rope pins its top particle unless `pinned` says otherwise.
 
-use sprung::build::{self, ClothSprings};
-use sprung::{BodyData, BuildError, SpringData, Vec3};
+use std::path::Path;
 
-use super::tables::{BodyTable, PerSpring};
+use sprung::build::{self, ClothSprings, SurfaceSprings};
+use sprung::{BodyData, BuildError, Gas, SpringData, Vec3, VolumeModel};
+
+use super::tables::{BodyTable, GasTable, PerSpring};
 use super::{positive, vector, KeyError};
+use crate::mesh;
 
 /// Spring stiffness when a body gives none (N/m).
 pub const DEFAULT_STIFFNESS: f64 = 100.0;
 
-/// Build the body a table describes (not yet checked: `World::add_body` does).
-pub(crate) fn body_data(table: &BodyTable) -> Result<BodyData, KeyError> {
-    let mut data = builder(table)?;
+/// Most levels of `refine` on a mesh body.
+pub const MAX_REFINE: usize = 5;
+
+/// Time over which a gas is pumped up when `ramp_time` is not given (s).
+pub const DEFAULT_RAMP_TIME: f64 = 1.0;
+
+/// Build the body a table describes (not yet checked: `World::add_body`
+/// does); mesh paths are relative to `scene_dir`.
+pub(crate) fn body_data(table: &BodyTable, scene_dir: &Path) -> Result<BodyData, KeyError> {
+    let mut data = builder(table, scene_dir)?;
+    if let Some(gas) = &table.gas {
+        data.gas = Some(gas_of(gas)?);
+    }
     apply_masses(table, &mut data)?;
     apply_springs(table, &mut data)?;
     if let Some(pinned) = &table.pinned {
@@ -63,18 +83,21 @@ pub(crate) fn body_data(table: &BodyTable) -> Result<BodyData, KeyError> {
     Ok(data.placed(scale, rotate, translate))
 }
 
-fn builder(table: &BodyTable) -> Result<BodyData, KeyError> {
+fn builder(table: &BodyTable, scene_dir: &Path) -> Result<BodyData, KeyError> {
     let chosen: Vec<&str> = [
         ("particles", table.particles.is_some()),
         ("rope", table.rope.is_some()),
         ("cloth", table.cloth.is_some()),
         ("lattice", table.lattice.is_some()),
+        ("ring", table.ring.is_some()),
+        ("sphere", table.sphere.is_some()),
+        ("mesh", table.mesh.is_some()),
     ]
     .into_iter()
     .filter_map(|(key, given)| given.then_some(key))
     .collect();
     match chosen.as_slice() {
-        [] => return Err(("name", "the body has no particles: give `particles = [...]` or a builder (`rope`, `cloth`, `lattice`)".into())),
+        [] => return Err(("name", "the body has no particles: give `particles = [...]` or a builder (`rope`, `cloth`, `lattice`, `ring`, `sphere`, `mesh`)".into())),
         [_] => {}
         several => {
             return Err((several[1], format!("the body is given by {}: choose one", several.join(" and "))))
@@ -85,6 +108,7 @@ fn builder(table: &BodyTable) -> Result<BodyData, KeyError> {
             ("springs", table.springs.is_some()),
             ("rest_lengths", table.rest_lengths.is_some()),
             ("faces", table.faces.is_some()),
+            ("segments", table.segments.is_some()),
         ];
         if let Some((key, _)) = explicit_only.iter().find(|(_, given)| *given) {
             return Err((
@@ -95,6 +119,40 @@ fn builder(table: &BodyTable) -> Result<BodyData, KeyError> {
                 ),
             ));
         }
+    }
+    let surface_only = [
+        ("bending", table.bending.is_some()),
+        ("internal", table.internal.is_some()),
+    ];
+    if table.sphere.is_none() && table.mesh.is_none() {
+        if let Some((key, _)) = surface_only.iter().find(|(_, given)| *given) {
+            return Err((
+                key,
+                format!("`{key}` belongs to `sphere` and `mesh` bodies"),
+            ));
+        }
+    }
+    if table.mesh.is_none() {
+        if table.object.is_some() {
+            return Err(("object", "`object` picks an object of a `mesh` file".into()));
+        }
+        if table.refine.is_some() {
+            return Err((
+                "refine",
+                "`refine` subdivides the triangles of a `mesh` body".into(),
+            ));
+        }
+    }
+    if let Some(ring) = &table.ring {
+        return build::ring(ring.particles, ring.radius).map_err(|e| (key_of(&e), e.to_string()));
+    }
+    if let Some(sphere) = &table.sphere {
+        let springs = surface_springs(table)?;
+        return build::icosphere(sphere.radius, sphere.subdivisions, springs)
+            .map_err(|e| (key_of(&e), e.to_string()));
+    }
+    if let Some(file) = &table.mesh {
+        return mesh_body(table, &scene_dir.join(file));
     }
     let built = match (&table.rope, &table.cloth, &table.lattice) {
         (Some(rope), _, _) => build::rope(rope.particles, rope.length),
@@ -112,6 +170,75 @@ fn builder(table: &BodyTable) -> Result<BodyData, KeyError> {
         (None, None, None) => return explicit(table),
     };
     built.map_err(|e| (key_of(&e), e.to_string()))
+}
+
+/// The springs a sphere or mesh body asks for.
+fn surface_springs(table: &BodyTable) -> Result<SurfaceSprings, KeyError> {
+    let centre = match table.internal.as_deref() {
+        None | Some("none") => false,
+        Some("centre") | Some("center") => true,
+        Some(other) => return Err((
+            "internal",
+            format!(
+                "`internal` = \"{other}\": known internal structures are \"none\" and \"centre\""
+            ),
+        )),
+    };
+    Ok(SurfaceSprings {
+        bending: table.bending.unwrap_or(true),
+        centre,
+    })
+}
+
+/// A body from one object of a mesh file. A gas body needs a closed,
+/// edge-manifold, orientable surface, oriented outward here; anything else
+/// is refused with the file, the object and the first offending edge. Open
+/// meshes are fine as cloth.
+fn mesh_body(table: &BodyTable, path: &Path) -> Result<BodyData, KeyError> {
+    let fail = |e: mesh::MeshError| ("mesh", e.to_string());
+    let objects = mesh::load_mesh_file(path).map_err(fail)?;
+    let mut object = mesh::select_object(objects, table.object.as_deref(), path).map_err(fail)?;
+    if table.gas.is_some() {
+        object = mesh::closed_surface(&object, path).map_err(fail)?;
+    }
+    let mut position: Vec<Vec3> = object
+        .positions
+        .iter()
+        .map(|&p| Vec3::from_array(p))
+        .collect();
+    let mut faces = object.triangles;
+    let levels = table.refine.unwrap_or(0);
+    if levels > MAX_REFINE {
+        return Err(("refine", format!("`refine` = {levels}: at most {MAX_REFINE} (each level makes four times the triangles)")));
+    }
+    for _ in 0..levels {
+        faces = build::refine(&mut position, &faces);
+    }
+    build::surface(position, faces, surface_springs(table)?)
+        .map_err(|e| (key_of(&e), e.to_string()))
+}
+
+/// The gas of a `gas = { ... }` table.
+fn gas_of(table: &GasTable) -> Result<Gas, KeyError> {
+    let mut gas = Gas::new(table.nrt, table.ramp_time.unwrap_or(DEFAULT_RAMP_TIME));
+    gas.keyframes = table
+        .schedule
+        .iter()
+        .flatten()
+        .map(|&[time, nrt]| (time, nrt))
+        .collect();
+    gas.leak_rate = table.leak_rate.unwrap_or(0.0);
+    gas.leak_start = table.leak_start.unwrap_or(0.0);
+    if let Some(name) = &table.volume {
+        gas.volume_model = VolumeModel::from_name(name).ok_or_else(|| {
+            (
+                "gas",
+                format!("`gas.volume` = \"{name}\": known volume models are \"exact\", \"bounding_box\" and \"bounding_ellipsoid\""),
+            )
+        })?;
+    }
+    gas.validate().map_err(|e| ("gas", e.to_string()))?;
+    Ok(gas)
 }
 
 fn explicit(table: &BodyTable) -> Result<BodyData, KeyError> {
@@ -144,6 +271,7 @@ fn explicit(table: &BodyTable) -> Result<BodyData, KeyError> {
         }
     }
     data.faces = table.faces.clone().unwrap_or_default();
+    data.segments = table.segments.clone().unwrap_or_default();
     Ok(data)
 }
 

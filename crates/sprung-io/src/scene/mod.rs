@@ -62,10 +62,11 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, SceneError> {
     let (integrator, dt, steps) = timing(sim).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
     let mut world = World::new(integrator);
     apply_settings(&mut world, sim).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
+    let scene_dir = path.parent().unwrap_or(Path::new("."));
     for table in &file.body {
         let span = table.span();
         let body = table.get_ref();
-        let data = body::body_data(body)
+        let data = body::body_data(body, scene_dir)
             .map_err(|(key, m)| at(span.clone(), key, format!("body \"{}\": {m}", body.name)))?;
         world.add_body(&body.name, data).map_err(|e| {
             let key = body::key_of(&e);

@@ -62,6 +62,8 @@ pub(crate) struct BodyTable {
     pub rest_lengths: Option<Vec<f64>>,
     #[serde(default)]
     pub faces: Option<Vec<[usize; 3]>>,
+    #[serde(default)]
+    pub segments: Option<Vec<[usize; 2]>>,
     // Builders.
     #[serde(default)]
     pub rope: Option<RopeTable>,
@@ -69,6 +71,24 @@ pub(crate) struct BodyTable {
     pub cloth: Option<ClothTable>,
     #[serde(default)]
     pub lattice: Option<LatticeTable>,
+    #[serde(default)]
+    pub ring: Option<RingTable>,
+    #[serde(default)]
+    pub sphere: Option<SphereTable>,
+    #[serde(default)]
+    pub mesh: Option<String>,
+    #[serde(default)]
+    pub object: Option<String>,
+    #[serde(default)]
+    pub refine: Option<usize>,
+    // Springs of surface bodies (sphere, mesh).
+    #[serde(default)]
+    pub bending: Option<bool>,
+    #[serde(default)]
+    pub internal: Option<String>,
+    // The gas inside a closed body.
+    #[serde(default)]
+    pub gas: Option<GasTable>,
     // Keys every body accepts.
     #[serde(default)]
     pub mass: Option<f64>,
@@ -132,6 +152,44 @@ pub(crate) struct LatticeTable {
     pub ny: usize,
     pub nz: usize,
     pub spacing: f64,
+}
+
+/// `ring = { particles, radius }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RingTable {
+    pub particles: usize,
+    pub radius: f64,
+}
+
+/// `sphere = { radius, subdivisions }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SphereTable {
+    pub radius: f64,
+    #[serde(default = "default_subdivisions")]
+    pub subdivisions: usize,
+}
+
+fn default_subdivisions() -> usize {
+    2
+}
+
+/// `gas = { nrt, ramp_time, schedule, leak_rate, leak_start, volume }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct GasTable {
+    pub nrt: f64,
+    #[serde(default)]
+    pub ramp_time: Option<f64>,
+    #[serde(default)]
+    pub schedule: Option<Vec<[f64; 2]>>,
+    #[serde(default)]
+    pub leak_rate: Option<f64>,
+    #[serde(default)]
+    pub leak_start: Option<f64>,
+    #[serde(default)]
+    pub volume: Option<String>,
 }
 
 /// `[[collider]]`: a shape and its contact response.

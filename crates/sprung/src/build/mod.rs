@@ -19,7 +19,7 @@ pub use lattice::lattice;
 pub use ring::ring;
 pub use rope::rope;
 pub use sphere::{icosphere, MAX_SUBDIVISIONS};
-pub use surface::{surface, SurfaceSprings};
+pub use surface::{refine, surface, SurfaceSprings};
 
 use crate::error::BuildError;
 use crate::Real;

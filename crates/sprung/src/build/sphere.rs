@@ -2,9 +2,7 @@
 //! `subdivisions` times and every vertex pushed onto the sphere.
 //! `10 · 4ˢ + 2` vertices: 12, 42, 162, 642, 2562, 10242, ...
 
-use std::collections::HashMap;
-
-use super::{check_length, surface, SurfaceSprings};
+use super::{check_length, refine, surface, SurfaceSprings};
 use crate::body::BodyData;
 use crate::error::BuildError;
 use crate::{Real, Vec3};
@@ -31,7 +29,7 @@ pub fn icosphere(
     }
     let (mut points, mut faces) = icosahedron();
     for _ in 0..subdivisions {
-        faces = subdivide(&mut points, &faces);
+        faces = refine(&mut points, &faces);
     }
     let position = points.into_iter().map(|p| radius * p.normalize()).collect();
     surface(position, faces, springs)
@@ -62,24 +60,4 @@ fn icosahedron() -> (Vec<Vec3>, Vec<[usize; 3]>) {
         }
     }
     (points, faces)
-}
-
-/// Split every triangle in four through its edge midpoints (shared between
-/// neighbours), keeping the orientation.
-fn subdivide(points: &mut Vec<Vec3>, faces: &[[usize; 3]]) -> Vec<[usize; 3]> {
-    let mut midpoints: HashMap<(usize, usize), usize> = HashMap::new();
-    let mut midpoint = |a: usize, b: usize, points: &mut Vec<Vec3>| {
-        *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
-            points.push(0.5 * (points[a] + points[b]));
-            points.len() - 1
-        })
-    };
-    let mut refined = Vec::with_capacity(faces.len() * 4);
-    for &[a, b, c] in faces {
-        let ab = midpoint(a, b, points);
-        let bc = midpoint(b, c, points);
-        let ca = midpoint(c, a, points);
-        refined.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-    }
-    refined
 }
