@@ -1,10 +1,11 @@
 //! `sprung bench`: spring updates per second for one step of a square cloth
-//! (structural, shear and bending springs) under each integrator.
+//! (structural, shear and bending springs) under each integrator, and steps
+//! per second of a gas-filled ball at 642 and 10 242 vertices.
 
 use std::time::Instant;
 
-use sprung::build::{self, ClothSprings};
-use sprung::{IntegratorKind, World};
+use sprung::build::{self, ClothSprings, SurfaceSprings};
+use sprung::{Gas, IntegratorKind, Vec3, World};
 
 use crate::run::CliError;
 
@@ -56,6 +57,48 @@ pub fn run(size: usize, steps: u32) -> Result<(), CliError> {
             evaluations,
             steps_per_second,
             updates
+        );
+    }
+    println!();
+    gas_balls(steps)
+}
+
+/// Steps per second of a gas-filled icosphere at 642 and 10 242 vertices
+/// (3 and 5 subdivisions), symplectic Euler: springs on every edge and
+/// across every pair of triangles, pressure from the exact volume.
+fn gas_balls(steps: u32) -> Result<(), CliError> {
+    println!(
+        "{:<30} {:>10} {:>10} {:>12} {:>20}",
+        "gas ball, symplectic Euler", "particles", "springs", "steps/s", "pressure faces/s"
+    );
+    for subdivisions in [3, 5] {
+        let mut ball = build::icosphere(1.0, subdivisions, SurfaceSprings::default())
+            .map_err(|e| CliError::Input(e.to_string()))?
+            .with_total_mass(1.0)
+            .with_stiffness(1000.0)
+            .with_damping(0.01);
+        ball.gas = Some(Gas::new(100.0, 0.0));
+        let mut world = World::new(IntegratorKind::SymplecticEuler);
+        world.settings.gravity = Vec3::ZERO;
+        world
+            .add_body("ball", ball)
+            .map_err(|e| CliError::Input(e.to_string()))?;
+        let dt = 0.5 * world.stable_time_step();
+        let step = |world: &mut World| world.step(dt).map_err(|e| CliError::Input(e.to_string()));
+        step(&mut world)?;
+        let start = Instant::now();
+        for _ in 0..steps {
+            step(&mut world)?;
+        }
+        let steps_per_second = f64::from(steps) / start.elapsed().as_secs_f64();
+        let faces = world.bodies[0].faces.len() as f64;
+        println!(
+            "{:<30} {:>10} {:>10} {:>12.1} {:>20.3e}",
+            format!("icosphere, {subdivisions} subdivisions"),
+            world.particles.len(),
+            world.springs.len(),
+            steps_per_second,
+            steps_per_second * faces
         );
     }
     Ok(())
