@@ -39,7 +39,9 @@ impl VolumeModel {
     /// The volume of `body` at `position` by this model (m³, or m² for a
     /// 2D body); 0 for a body that is not closed.
     pub fn volume(self, body: &Body, position: &[Vec3]) -> Real {
-        let exact = body.enclosed_volume(position).unwrap_or(0.0);
+        let Some(exact) = body.enclosed_volume(position) else {
+            return 0.0;
+        };
         if self == VolumeModel::Exact {
             return exact;
         }

@@ -177,12 +177,14 @@ fn surface_springs(table: &BodyTable) -> Result<SurfaceSprings, KeyError> {
     let centre = match table.internal.as_deref() {
         None | Some("none") => false,
         Some("centre") | Some("center") => true,
-        Some(other) => return Err((
-            "internal",
-            format!(
+        Some(other) => {
+            return Err((
+                "internal",
+                format!(
                 "`internal` = \"{other}\": known internal structures are \"none\" and \"centre\""
             ),
-        )),
+            ))
+        }
     };
     Ok(SurfaceSprings {
         bending: table.bending.unwrap_or(true),

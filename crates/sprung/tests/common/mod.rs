@@ -188,3 +188,43 @@ pub fn peaks(values: &[Real], dt: Real) -> Vec<(Real, Real)> {
     }
     found
 }
+
+/// The closed surface of the axis-aligned box with corner `low` (m) and edge
+/// lengths `size` (m): its 8 corners (corner `i` has bit 0 of `i` for x,
+/// bit 1 for y, bit 2 for z) and 12 triangles, counter-clockwise seen from
+/// outside. Each face is the quad with corners `(0,0), (1,0), (1,1), (0,1)`
+/// in its two in-plane axes `(u, v) = (a+1, a+2) mod 3`, whose normal
+/// `e_u × e_v = e_a` points out on the high side (the order is reversed on
+/// the low side), split along its `(0,0)-(1,1)` diagonal.
+pub fn box_surface(low: Vec3, size: Vec3) -> (Vec<Vec3>, Vec<[usize; 3]>) {
+    let corners = (0..8)
+        .map(|i: usize| {
+            let bit = |axis: usize| ((i >> axis) & 1) as Real;
+            low + size * Vec3::new(bit(0), bit(1), bit(2))
+        })
+        .collect();
+    let mut faces = Vec::with_capacity(12);
+    for axis in 0..3 {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        for side in 0..2usize {
+            let corner = |bu: usize, bv: usize| (side << axis) | (bu << u) | (bv << v);
+            let mut quad = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
+            if side == 0 {
+                quad.reverse();
+            }
+            faces.push([quad[0], quad[1], quad[2]]);
+            faces.push([quad[0], quad[2], quad[3]]);
+        }
+    }
+    (corners, faces)
+}
+
+/// `faces` with `u32` indices, as [`sprung::surface`] takes them.
+pub fn faces_u32(faces: &[[usize; 3]]) -> Vec<[u32; 3]> {
+    faces.iter().map(|f| f.map(|i| i as u32)).collect()
+}
+
+/// `segments` with `u32` indices, as [`sprung::surface`] takes them.
+pub fn segments_u32(segments: &[[usize; 2]]) -> Vec<[u32; 2]> {
+    segments.iter().map(|s| s.map(|i| i as u32)).collect()
+}
