@@ -180,7 +180,7 @@ impl World {
         } = &mut self.particles;
         let mut dynamics = Dynamics {
             settings: &self.settings,
-            forces: &self.forces,
+            forces: &mut self.forces,
             colliders: &self.colliders,
             springs: &self.springs,
             bodies: &self.bodies,
@@ -254,7 +254,7 @@ impl World {
         } = &mut self.particles;
         Dynamics {
             settings: &self.settings,
-            forces: &self.forces,
+            forces: &mut self.forces,
             colliders: &self.colliders,
             springs: &self.springs,
             bodies: &self.bodies,
@@ -339,7 +339,7 @@ fn orient_outward(body: &mut Body, position: &[Vec3]) {
 /// `a = f / m`. Integrators call it at every trial state they need.
 pub struct Dynamics<'a> {
     settings: &'a Settings,
-    forces: &'a [Box<dyn Force>],
+    forces: &'a mut [Box<dyn Force>],
     colliders: &'a [Collider],
     springs: &'a Springs,
     bodies: &'a [Body],
@@ -371,7 +371,7 @@ impl Dynamics<'_> {
             coefficient: self.settings.air_drag,
         }
         .accumulate(&context, force);
-        for extra in self.forces {
+        for extra in self.forces.iter_mut() {
             extra.accumulate(&context, force);
         }
         for collider in self.colliders {

@@ -15,7 +15,7 @@ impl Force for AirDrag {
         "air drag"
     }
 
-    fn accumulate(&self, context: &ForceContext, force: &mut [Vec3]) {
+    fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
         if self.coefficient == 0.0 {
             return;
         }

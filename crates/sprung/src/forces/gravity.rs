@@ -16,7 +16,7 @@ impl Force for Gravity {
         "gravity"
     }
 
-    fn accumulate(&self, context: &ForceContext, force: &mut [Vec3]) {
+    fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
         if self.acceleration == Vec3::ZERO {
             return;
         }

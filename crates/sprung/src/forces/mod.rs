@@ -45,8 +45,10 @@ pub struct ForceContext<'a> {
 pub trait Force: Send + Sync + std::fmt::Debug {
     /// A short name for messages.
     fn name(&self) -> &'static str;
-    /// Add this force (N) to `force`, one entry per particle.
-    fn accumulate(&self, context: &ForceContext, force: &mut [Vec3]);
+    /// Add this force (N) to `force`, one entry per particle. `&mut self`
+    /// lets a force keep scratch buffers (per-particle normals, say) sized
+    /// on first use, so a step allocates nothing.
+    fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]);
     /// Add this force's potential energy (J) to the right term of `energies`.
     fn add_energy(&self, _context: &ForceContext, _energies: &mut Energies) {}
 }

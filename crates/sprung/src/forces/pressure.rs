@@ -22,7 +22,7 @@ impl Force for GasPressure {
         "gas pressure"
     }
 
-    fn accumulate(&self, context: &ForceContext, force: &mut [Vec3]) {
+    fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
         let x = context.position;
         for body in context.bodies {
             let Some(pressure) = pressure(body, x, context.time) else {

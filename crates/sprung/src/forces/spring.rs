@@ -21,7 +21,7 @@ impl Force for SpringForce {
         "springs"
     }
 
-    fn accumulate(&self, context: &ForceContext, force: &mut [Vec3]) {
+    fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
         let springs = context.springs;
         let (x, v) = (context.position, context.velocity);
         for s in 0..springs.len() {
