@@ -2,13 +2,15 @@
 //!
 //! A scene has `[sim]` (time step `dt`, `integrator`, `gravity`,
 //! `duration` or `steps`, `air_drag`, `every`), any number of `[[body]]`
-//! tables (see the README for the keys) and `[[collider]]` tables. Every
+//! tables (see the README for the keys), `[[collider]]` tables and an
+//! optional `[wind]` table. Every
 //! unknown key is an error naming it; every error names the file and the
 //! line. Nothing is half-built: a scene either loads whole or not at all.
 
 mod body;
 mod error;
 mod tables;
+mod wind;
 
 pub use error::SceneError;
 
@@ -78,6 +80,29 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, SceneError> {
         let collider = collider(table.get_ref())
             .map_err(|(key, m)| at(span.clone(), key, format!("collider: {m}")))?;
         world.colliders.push(collider);
+    }
+    if let Some(table) = &file.wind {
+        let span = table.span();
+        let mut wind = wind::wind(table.get_ref())
+            .map_err(|(key, m)| at(span.clone(), key, format!("wind: {m}")))?;
+        for (index, body) in file.body.iter().enumerate() {
+            if let Some(scale) = body.get_ref().wind_scale {
+                wind.set_body_scale(index, scale).map_err(|e| {
+                    at(
+                        body.span(),
+                        "wind_scale",
+                        format!("body \"{}\": {e}", body.get_ref().name),
+                    )
+                })?;
+            }
+        }
+        world.forces.push(Box::new(wind));
+    } else if let Some(body) = file.body.iter().find(|b| b.get_ref().wind_scale.is_some()) {
+        let message = format!(
+            "body \"{}\": `wind_scale` needs a `[wind]` table",
+            body.get_ref().name
+        );
+        return Err(at(body.span(), "wind_scale", message));
     }
     Ok(Scene {
         world,

@@ -14,6 +14,46 @@ pub(crate) struct SceneFile {
     pub body: Vec<Spanned<BodyTable>>,
     #[serde(default)]
     pub collider: Vec<Spanned<ColliderTable>>,
+    #[serde(default)]
+    pub wind: Option<Spanned<WindTable>>,
+}
+
+/// `[wind]`: wind on every surface.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct WindTable {
+    pub velocity: Vec<f64>,
+    #[serde(default)]
+    pub model: Option<String>,
+    #[serde(default)]
+    pub coefficient: Option<f64>,
+    #[serde(default)]
+    pub air_density: Option<f64>,
+    #[serde(default)]
+    pub lift: Option<f64>,
+    #[serde(default)]
+    pub gust: Option<GustTable>,
+    #[serde(default)]
+    pub turbulence: Option<TurbulenceTable>,
+    #[serde(default)]
+    pub seed: Option<u64>,
+}
+
+/// `gust = { amplitude, period }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct GustTable {
+    pub amplitude: f64,
+    pub period: f64,
+}
+
+/// `turbulence = { amplitude, length_scale, time_scale }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct TurbulenceTable {
+    pub amplitude: f64,
+    pub length_scale: f64,
+    pub time_scale: f64,
 }
 
 /// `[sim]`: time stepping and world settings.
@@ -89,6 +129,9 @@ pub(crate) struct BodyTable {
     // The gas inside a closed body.
     #[serde(default)]
     pub gas: Option<GasTable>,
+    // The factor of the `[wind]` this body feels.
+    #[serde(default)]
+    pub wind_scale: Option<f64>,
     // Keys every body accepts.
     #[serde(default)]
     pub mass: Option<f64>,

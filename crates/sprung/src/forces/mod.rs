@@ -13,11 +13,15 @@ mod drag;
 mod gravity;
 mod pressure;
 mod spring;
+mod wind;
+mod wind_field;
 
 pub use drag::AirDrag;
 pub use gravity::Gravity;
 pub use pressure::{pressure, GasPressure};
 pub use spring::{spring_energy, SpringForce};
+pub use wind::{Wind, WindModel, AIR_DENSITY};
+pub use wind_field::{Gusts, Turbulence, WindField};
 
 use crate::body::Body;
 use crate::measure::Energies;
