@@ -60,6 +60,18 @@ const DEMOS: &[Demo] = &[
         every_integrator: false,
     },
     Demo {
+        name: "flag",
+        about: "a flag pinned along its pole fluttering in a steady wind",
+        scene: scene!("flag.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "billow",
+        about: "two sheets pinned on four sides billowing in strong and weak wind",
+        scene: scene!("billow.toml"),
+        every_integrator: false,
+    },
+    Demo {
         name: "cloth",
         about: "a cloth hanging from two corners",
         scene: scene!("cloth.toml"),

@@ -289,6 +289,8 @@ fn demo_list_names_every_demo() {
         "pillow",
         "horse",
         "balloon",
+        "flag",
+        "billow",
         "cloth",
         "rope",
         "rope_one_sided",

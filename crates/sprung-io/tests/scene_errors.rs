@@ -270,3 +270,73 @@ fn two_dimensional_points_and_placement() {
     // The rest length is the distance at creation, after placement: 2 m.
     assert!((scene.world.springs.rest_length[0] - 2.0).abs() < 1e-12);
 }
+
+#[test]
+fn wind_model_that_does_not_exist() {
+    let wind = "[wind]\nvelocity = [1.0, 0.0, 0.0]\nmodel = \"hurricane\"\n";
+    // GOOD has 9 lines: `[wind]` is line 10, `model` line 12.
+    assert_error(
+        &format!("{GOOD}{wind}"),
+        12,
+        &["wind:", "unknown wind model \"hurricane\"", "simple, area"],
+    );
+}
+
+#[test]
+fn wind_with_negative_air_density() {
+    let wind = "[wind]\nvelocity = [1.0, 0.0, 0.0]\nmodel = \"area\"\nair_density = -1.2\n";
+    assert_error(
+        &format!("{GOOD}{wind}"),
+        13,
+        &["`air_density` = -1.2", "not negative"],
+    );
+}
+
+#[test]
+fn wind_keys_of_the_other_model_and_bad_variations() {
+    let base = "[wind]\nvelocity = [1.0, 0.0, 0.0]\n";
+    assert_error(
+        &format!("{GOOD}{base}air_density = 1.0\n"),
+        12,
+        &["`air_density` belongs to the \"area\" wind model"],
+    );
+    assert_error(
+        &format!("{GOOD}{base}gust = {{ amplitude = 2.0, period = 1.0 }}\n"),
+        12,
+        &["`gust.amplitude` = 2", "[0, 1]"],
+    );
+    assert_error(
+        &format!("{GOOD}{base}turbulence = {{ amplitude = 1.0, length_scale = 0.0, time_scale = 1.0 }}\n"),
+        12,
+        &["length scale must be positive"],
+    );
+    assert_error(
+        &format!("{GOOD}{base}speed = 3.0\n"),
+        12,
+        &["unknown field `speed`"],
+    );
+}
+
+#[test]
+fn wind_scale_needs_wind_and_a_sensible_value() {
+    assert_error(
+        &format!("{GOOD}wind_scale = 0.5\n"),
+        10,
+        &["`wind_scale` needs a `[wind]` table"],
+    );
+    let wind = "[wind]\nvelocity = [1.0, 0.0, 0.0]\n";
+    assert_error(
+        &format!("{GOOD}wind_scale = -1.0\n{wind}"),
+        10,
+        &["`wind_scale` = -1", "not negative"],
+    );
+}
+
+#[test]
+fn a_good_wind_table_adds_one_force() {
+    let wind = "[wind]\nvelocity = [1.0, 0.0, 0.0]\nmodel = \"area\"\nlift = 0.5\ngust = { amplitude = 0.3, period = 2.0 }\nturbulence = { amplitude = 1.0, length_scale = 0.5, time_scale = 0.3 }\nseed = 7\n";
+    let scene = parse_scene(&format!("{GOOD}{wind}"), Path::new("w.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.world.forces.len(), 1);
+    assert_eq!(scene.world.forces[0].name(), "wind");
+}
