@@ -10,4 +10,4 @@ pub mod export;
 pub mod mesh;
 pub mod scene;
 
-pub use scene::{load_scene, parse_scene, Scene, SceneError};
+pub use scene::{load_scene, parse_scene, parse_scene_with, Disk, FileSource, Scene, SceneError};

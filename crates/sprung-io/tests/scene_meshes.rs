@@ -141,7 +141,19 @@ fn gas_and_surface_keys_are_checked() {
             "gas = { nrt = 1.0, pressure = 3.0 }",
             "unknown field `pressure`",
         ),
-        ("internal = \"jelly\"", "\"none\" and \"centre\""),
+        (
+            "internal = \"jelly\"",
+            "\"none\", \"centre\" and \"lattice\"",
+        ),
+        ("internal = \"lattice\"", "needs `lattice_spacing`"),
+        (
+            "lattice_spacing = 0.5",
+            "goes with `internal = \"lattice\"`",
+        ),
+        (
+            "internal = \"lattice\"\nlattice_spacing = -1.0",
+            "spacing must be positive",
+        ),
         ("refine = 9", "`refine` = 9"),
     ];
     for (extra, fragment) in cases {
@@ -180,4 +192,43 @@ fn rings_and_spheres_from_scene_keys() {
     // SOURCES.md: sphere.obj is the same 3-level unit icosphere, +4.15268.
     assert!((scene.world.volume(1).expect("closed") - 4.15268).abs() < 5e-6);
     assert_eq!(scene.world.bodies[1].particles.len(), 642);
+}
+
+#[test]
+fn a_lattice_fills_the_textbook_cube_and_holds_its_shape_without_gas() {
+    // cube.asc has side 2: at spacing 0.5, floor(2 / 0.5) = 4 points fit
+    // along each axis, centred: at ±0.25 and ±0.75, all strictly inside, so
+    // 4³ = 64 lattice particles join the surface.
+    let path = meshes_dir().join("cube.asc");
+    let text = format!(
+        "[sim]\ndt = 2e-4\nsteps = 1\n\n[[body]]\nname = \"m\"\nmesh = \"{}\"\nrefine = 1\nbending = false\ntotal_mass = 1.0\nstiffness = 500.0\ndamping = 0.5\ntranslate = [0.0, 1.2, 0.0]\ninternal = \"lattice\"\nlattice_spacing = 0.5\n\n[[collider]]\nplane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}\nfriction = 0.5\n",
+        path.display()
+    );
+    let mut scene = parse_scene(&text, Path::new("m.toml")).unwrap_or_else(|e| panic!("{e}"));
+    // refine = 1: 8 corners + 12 edge midpoints + 6 face centres = 26
+    // surface points on 48 triangles, so 26 + 48 - 2 = 72 edges (Euler).
+    assert_eq!(scene.world.particles.len(), 26 + 64);
+    // Lattice springs over the 13 forward directions of a 4×4×4 block:
+    // 3 axes · 4²·3 + 6 face diagonals · 4·3² + 4 body diagonals · 3³
+    // = 144 + 216 + 108 = 468; plus one tie per surface point: 26.
+    assert_eq!(scene.world.springs.len(), 72 + 468 + 26);
+    let inside = scene.world.particles.position[26..].iter().all(|p| {
+        let local = *p - sprung::Vec3::new(0.0, 1.2, 0.0);
+        local.abs().max_element() < 1.0
+    });
+    assert!(
+        inside,
+        "every lattice particle lies strictly inside the cube"
+    );
+    // Dropped on a floor without gas it holds its shape: the weight per
+    // lattice column (~1 kg g / 16 ≈ 0.6 N) against 500 N/m springs
+    // shortens a 0.5 m link by ~0.1 %; 0.9 × 2 m leaves room for settling.
+    for _ in 0..15_000 {
+        scene.world.step(scene.dt).unwrap_or_else(|e| panic!("{e}"));
+    }
+    let ys = scene.world.particles.position.iter().map(|p| p.y);
+    let (low, high) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), y| {
+        (l.min(y), h.max(y))
+    });
+    assert!(high - low > 1.8, "lattice cube height {}", high - low);
 }

@@ -41,7 +41,7 @@ pub type Real = f64;
 pub type Vec3 = glam::DVec3;
 
 pub use body::{Body, BodyData, SpringData};
-pub use collide::{Collider, ContactResponse, Shape};
+pub use collide::{Collider, ContactResponse, Path, Shape};
 pub use error::{BuildError, StepError};
 pub use gas::{Gas, VolumeModel};
 pub use integrate::IntegratorKind;

@@ -4,19 +4,22 @@
 //! One step is a short sequence of named stages:
 //!
 //! 1. **clear forces** and 2. **accumulate forces** (gravity, springs, gas
-//!    pressure, air drag, the extra forces in [`World::forces`], penalty contacts), run by
+//!    pressure, air drag, wind, the mouse spring, the extra forces in [`World::forces`], penalty contacts), run by
 //!    the integrator through [`Dynamics`] as many times as it needs;
 //! 3. **integrate** positions and velocities;
 //! 4. **constrain**: the place for distance constraints (rigid rods), which
 //!    the engine does not have yet;
-//! 5. **collide**: projection-form colliders move particles back out;
+//! 5. **collide**: projection-form colliders, where they are at the end of
+//!    the step (moving ones follow their path), move particles back out;
 //! 6. **guard**: a non-finite or runaway state stops the run with
 //!    [`StepError::BlowUp`].
 
 use crate::body::{Body, BodyData};
 use crate::collide::{self, Collider};
 use crate::error::{BlowUpReason, BuildError, StepError};
-use crate::forces::{self, AirDrag, Force, ForceContext, GasPressure, Gravity, SpringForce};
+use crate::forces::{
+    self, AirDrag, Force, ForceContext, GasPressure, Gravity, MouseSpring, SpringForce, Wind,
+};
 use crate::integrate::{Derivative, Integrator, IntegratorKind};
 use crate::measure::{self, Energies};
 use crate::particles::Particles;
@@ -58,8 +61,11 @@ pub struct World {
     pub springs: Springs,
     /// The bodies, in the order they were added.
     pub bodies: Vec<Body>,
-    /// Forces beyond the built-in gravity, springs and drag (pressure, wind,
-    /// user forces).
+    /// Wind on every surface, if any.
+    pub wind: Option<Wind>,
+    /// The user's hand: a spring from a grabbed particle to the cursor.
+    pub mouse: Option<MouseSpring>,
+    /// Any other forces, added after the built-in ones.
     pub forces: Vec<Box<dyn Force>>,
     /// Colliders the particles must stay out of.
     pub colliders: Vec<Collider>,
@@ -80,6 +86,8 @@ impl World {
             particles: Particles::default(),
             springs: Springs::default(),
             bodies: Vec::new(),
+            wind: None,
+            mouse: None,
             forces: Vec::new(),
             colliders: Vec::new(),
             settings: Settings::default(),
@@ -164,8 +172,8 @@ impl World {
             return Err(StepError::InvalidTimeStep { dt });
         }
         self.integrate(dt);
-        self.collide();
         self.advance_time(dt);
+        self.collide();
         self.steps += 1;
         self.guard(dt)
     }
@@ -180,6 +188,8 @@ impl World {
         } = &mut self.particles;
         let mut dynamics = Dynamics {
             settings: &self.settings,
+            wind: self.wind.as_mut(),
+            mouse: self.mouse.as_mut(),
             forces: &mut self.forces,
             colliders: &self.colliders,
             springs: &self.springs,
@@ -199,11 +209,14 @@ impl World {
         self.time = time;
     }
 
+    /// The projection stage, at the time after the step (`self.time` has
+    /// been advanced), where moving colliders have got to.
     fn collide(&mut self) {
         let particles = &mut self.particles;
         for collider in &self.colliders {
             collide::project(
                 collider,
+                self.time,
                 &mut particles.position,
                 &mut particles.velocity,
                 &particles.inverse_mass,
@@ -254,6 +267,8 @@ impl World {
         } = &mut self.particles;
         Dynamics {
             settings: &self.settings,
+            wind: self.wind.as_mut(),
+            mouse: self.mouse.as_mut(),
             forces: &mut self.forces,
             colliders: &self.colliders,
             springs: &self.springs,
@@ -282,7 +297,7 @@ impl World {
             force.add_energy(&context, &mut energies);
         }
         energies.contact = self.colliders.iter().fold(0.0, |sum, c| {
-            sum + c.contact_energy(&self.particles.position)
+            sum + c.contact_energy(self.time, &self.particles.position)
         });
         energies
     }
@@ -339,6 +354,8 @@ fn orient_outward(body: &mut Body, position: &[Vec3]) {
 /// `a = f / m`. Integrators call it at every trial state they need.
 pub struct Dynamics<'a> {
     settings: &'a Settings,
+    wind: Option<&'a mut Wind>,
+    mouse: Option<&'a mut MouseSpring>,
     forces: &'a mut [Box<dyn Force>],
     colliders: &'a [Collider],
     springs: &'a Springs,
@@ -371,11 +388,17 @@ impl Dynamics<'_> {
             coefficient: self.settings.air_drag,
         }
         .accumulate(&context, force);
+        if let Some(wind) = self.wind.as_deref_mut() {
+            wind.accumulate(&context, force);
+        }
+        if let Some(mouse) = self.mouse.as_deref_mut() {
+            mouse.accumulate(&context, force);
+        }
         for extra in self.forces.iter_mut() {
             extra.accumulate(&context, force);
         }
         for collider in self.colliders {
-            collide::penalty_force(collider, position, velocity, force);
+            collide::penalty_force(collider, time, position, velocity, force);
         }
     }
 }

@@ -15,7 +15,7 @@ mod common;
 use std::f64::consts::{PI, TAU};
 
 use common::{box_surface, faces_u32, segments_u32};
-use sprung::build::{self, SurfaceSprings};
+use sprung::build::{self, Internal, SurfaceSprings};
 use sprung::surface::{self, SurfaceProblem};
 use sprung::{BodyData, BuildError, Gas, IntegratorKind, Real, Vec3, VolumeModel, World};
 
@@ -263,7 +263,7 @@ fn cube_of_side_two_has_volume_eight() {
 fn icosphere_has_the_exact_vertex_face_and_edge_counts() {
     let edges_only = SurfaceSprings {
         bending: false,
-        centre: false,
+        internal: Internal::None,
     };
     for s in 0..=5 {
         let sphere = build::icosphere(1.0, s, edges_only).expect("valid icosphere");

@@ -1,5 +1,6 @@
 //! Outputs of a run: `diagnostics.csv` ([`Diagnostics`]) and frame
-//! sequences in legacy VTK (ParaView) and OBJ (Blender) ([`write_frame`]).
+//! sequences in legacy VTK (ParaView) and OBJ (Blender) ([`write_frame`]),
+//! and VTK frames read back ([`read_vtk_frame`]).
 //!
 //! Every file is written completely or not at all: it is written under a
 //! temporary name beside its final place and renamed into place only once
@@ -12,9 +13,11 @@ mod atomic;
 mod diagnostics;
 mod obj;
 mod vtk;
+mod vtk_read;
 
 pub use atomic::AtomicFile;
 pub use diagnostics::Diagnostics;
+pub use vtk_read::{read_vtk_frame, DataArray, VtkFrame, VtkReadError};
 
 use std::io;
 use std::path::{Path, PathBuf};

@@ -5,7 +5,9 @@
 //! `lattice`, `ring`, `sphere` or `mesh` (a file relative to the scene, with
 //! `object` to pick one object). Sphere and mesh bodies get a spring per
 //! edge, `bending` springs across adjacent triangles (default on) and
-//! `internal = "centre"` springs to a centre particle (default `"none"`).
+//! `internal = "centre"` springs to a centre particle, or `internal =
+//! "lattice"` with `lattice_spacing` (m), a 26-neighbour lattice filling the
+//! inside tied to the surface (default `"none"`).
 //! `refine = N` splits each triangle of a mesh in four, N times. A closed
 //! body may carry `gas = { nrt, ramp_time, schedule, leak_rate,
 //! leak_start, volume }`. Keys
@@ -19,10 +21,11 @@
 
 use std::path::Path;
 
-use sprung::build::{self, ClothSprings, SurfaceSprings};
+use sprung::build::{self, ClothSprings, Internal, SurfaceSprings};
 use sprung::{BodyData, BuildError, Gas, SpringData, Vec3, VolumeModel};
 
 use super::tables::{BodyTable, GasTable, PerSpring};
+use super::FileSource;
 use super::{positive, vector, KeyError};
 use crate::mesh;
 
@@ -37,8 +40,12 @@ pub const DEFAULT_RAMP_TIME: f64 = 1.0;
 
 /// Build the body a table describes (not yet checked: `World::add_body`
 /// does); mesh paths are relative to `scene_dir`.
-pub(crate) fn body_data(table: &BodyTable, scene_dir: &Path) -> Result<BodyData, KeyError> {
-    let mut data = builder(table, scene_dir)?;
+pub(crate) fn body_data(
+    table: &BodyTable,
+    scene_dir: &Path,
+    files: &dyn FileSource,
+) -> Result<BodyData, KeyError> {
+    let mut data = builder(table, scene_dir, files)?;
     if let Some(gas) = &table.gas {
         data.gas = Some(gas_of(gas)?);
     }
@@ -83,7 +90,11 @@ pub(crate) fn body_data(table: &BodyTable, scene_dir: &Path) -> Result<BodyData,
     Ok(data.placed(scale, rotate, translate))
 }
 
-fn builder(table: &BodyTable, scene_dir: &Path) -> Result<BodyData, KeyError> {
+fn builder(
+    table: &BodyTable,
+    scene_dir: &Path,
+    files: &dyn FileSource,
+) -> Result<BodyData, KeyError> {
     let chosen: Vec<&str> = [
         ("particles", table.particles.is_some()),
         ("rope", table.rope.is_some()),
@@ -152,7 +163,7 @@ fn builder(table: &BodyTable, scene_dir: &Path) -> Result<BodyData, KeyError> {
             .map_err(|e| (key_of(&e), e.to_string()));
     }
     if let Some(file) = &table.mesh {
-        return mesh_body(table, &scene_dir.join(file));
+        return mesh_body(table, &scene_dir.join(file), files);
     }
     let built = match (&table.rope, &table.cloth, &table.lattice) {
         (Some(rope), _, _) => build::rope(rope.particles, rope.length),
@@ -174,21 +185,31 @@ fn builder(table: &BodyTable, scene_dir: &Path) -> Result<BodyData, KeyError> {
 
 /// The springs a sphere or mesh body asks for.
 fn surface_springs(table: &BodyTable) -> Result<SurfaceSprings, KeyError> {
-    let centre = match table.internal.as_deref() {
-        None | Some("none") => false,
-        Some("centre") | Some("center") => true,
+    let internal = match table.internal.as_deref() {
+        None | Some("none") => Internal::None,
+        Some("centre") | Some("center") => Internal::Centre,
+        Some("lattice") => Internal::Lattice {
+            spacing: table.lattice_spacing.ok_or((
+                "internal",
+                "`internal = \"lattice\"` needs `lattice_spacing` (m)".to_string(),
+            ))?,
+        },
         Some(other) => {
             return Err((
                 "internal",
-                format!(
-                "`internal` = \"{other}\": known internal structures are \"none\" and \"centre\""
-            ),
+                format!("`internal` = \"{other}\": known internal structures are \"none\", \"centre\" and \"lattice\""),
             ))
         }
     };
+    if table.lattice_spacing.is_some() && !matches!(internal, Internal::Lattice { .. }) {
+        return Err((
+            "lattice_spacing",
+            "`lattice_spacing` goes with `internal = \"lattice\"`".into(),
+        ));
+    }
     Ok(SurfaceSprings {
         bending: table.bending.unwrap_or(true),
-        centre,
+        internal,
     })
 }
 
@@ -196,9 +217,16 @@ fn surface_springs(table: &BodyTable) -> Result<SurfaceSprings, KeyError> {
 /// edge-manifold, orientable surface, oriented outward here; anything else
 /// is refused with the file, the object and the first offending edge. Open
 /// meshes are fine as cloth.
-fn mesh_body(table: &BodyTable, path: &Path) -> Result<BodyData, KeyError> {
+fn mesh_body(table: &BodyTable, path: &Path, files: &dyn FileSource) -> Result<BodyData, KeyError> {
     let fail = |e: mesh::MeshError| ("mesh", e.to_string());
-    let objects = mesh::load_mesh_file(path).map_err(fail)?;
+    let format = mesh::MeshFormat::from_path(path).map_err(fail)?;
+    let bytes = files.read(path).map_err(|e| {
+        fail(mesh::MeshError::new(
+            path,
+            mesh::MeshErrorKind::Io(e.to_string()),
+        ))
+    })?;
+    let objects = mesh::parse_mesh(&bytes, format, path).map_err(fail)?;
     let mut object = mesh::select_object(objects, table.object.as_deref(), path).map_err(fail)?;
     if table.gas.is_some() {
         object = mesh::closed_surface(&object, path).map_err(fail)?;

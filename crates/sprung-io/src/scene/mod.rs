@@ -46,9 +46,35 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
     parse_scene(&text, path)
 }
 
+/// Where the files a scene refers to (meshes) are read from: the disk, or,
+/// where there is none (a web page), files bundled into the program.
+pub trait FileSource {
+    /// The contents of the file at `path`.
+    fn read(&self, path: &Path) -> std::io::Result<Vec<u8>>;
+}
+
+/// Files read from the disk.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Disk;
+
+impl FileSource for Disk {
+    fn read(&self, path: &Path) -> std::io::Result<Vec<u8>> {
+        std::fs::read(path)
+    }
+}
+
 /// Build a scene from its TOML `text`; `path` names it in errors and anchors
-/// relative paths.
+/// relative paths; mesh files come from the disk.
 pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, SceneError> {
+    parse_scene_with(text, path, &Disk)
+}
+
+/// [`parse_scene`] with the files it refers to read from `files`.
+pub fn parse_scene_with(
+    text: &str,
+    path: &Path,
+    files: &dyn FileSource,
+) -> Result<Scene, SceneError> {
     let file: SceneFile = toml::from_str(text).map_err(|e| {
         let line = e.span().map(|s| line_of(text, s.start));
         SceneError::new(path, line, e.message().trim().to_string())
@@ -68,7 +94,7 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, SceneError> {
     for table in &file.body {
         let span = table.span();
         let body = table.get_ref();
-        let data = body::body_data(body, scene_dir)
+        let data = body::body_data(body, scene_dir, files)
             .map_err(|(key, m)| at(span.clone(), key, format!("body \"{}\": {m}", body.name)))?;
         world.add_body(&body.name, data).map_err(|e| {
             let key = body::key_of(&e);
@@ -96,7 +122,7 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, SceneError> {
                 })?;
             }
         }
-        world.forces.push(Box::new(wind));
+        world.wind = Some(wind);
     } else if let Some(body) = file.body.iter().find(|b| b.get_ref().wind_scale.is_some()) {
         let message = format!(
             "body \"{}\": `wind_scale` needs a `[wind]` table",

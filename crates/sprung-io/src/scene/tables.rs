@@ -126,6 +126,8 @@ pub(crate) struct BodyTable {
     pub bending: Option<bool>,
     #[serde(default)]
     pub internal: Option<String>,
+    #[serde(default)]
+    pub lattice_spacing: Option<f64>,
     // The gas inside a closed body.
     #[serde(default)]
     pub gas: Option<GasTable>,

@@ -8,6 +8,7 @@
 //! `Result<BodyData, BuildError>` that checks its own parameters.
 
 mod cloth;
+mod fill;
 mod lattice;
 mod ring;
 mod rope;
@@ -19,7 +20,7 @@ pub use lattice::lattice;
 pub use ring::ring;
 pub use rope::rope;
 pub use sphere::{icosphere, MAX_SUBDIVISIONS};
-pub use surface::{refine, surface, SurfaceSprings};
+pub use surface::{refine, surface, Internal, SurfaceSprings};
 
 use crate::error::BuildError;
 use crate::Real;

@@ -4,34 +4,50 @@
 
 use std::collections::HashMap;
 
+use super::fill::lattice_fill;
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
 use crate::surface::{bending_pairs, unique_edges};
-use crate::Vec3;
+use crate::{Real, Vec3};
 
 /// Which springs a surface body gets besides one per edge.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfaceSprings {
     /// A spring across each pair of adjacent triangles, between the two
     /// vertices opposite their shared edge: resists folding along the edge.
     pub bending: bool,
-    /// An extra particle at the centroid, joined by a spring to every
-    /// vertex: an internal skeleton that holds the shape without gas.
-    pub centre: bool,
+    /// Structure inside the surface that holds the shape without gas.
+    pub internal: Internal,
 }
 
 impl Default for SurfaceSprings {
     fn default() -> Self {
         SurfaceSprings {
             bending: true,
-            centre: false,
+            internal: Internal::None,
         }
     }
 }
 
+/// Internal structure of a surface body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Internal {
+    /// The surface alone.
+    None,
+    /// An extra particle at the centroid, joined by a spring to every vertex.
+    Centre,
+    /// A lattice of particles `spacing` (m) apart filling the inside, with
+    /// 26-neighbour springs, each surface vertex tied to its nearest lattice
+    /// particle. Meaningful for closed surfaces only.
+    Lattice {
+        /// Distance between lattice particles (m), positive.
+        spacing: Real,
+    },
+}
+
 /// A body with particles at `position` (m), the triangles `faces` and the
-/// springs `springs` asks for. The centre particle, if any, comes last and
-/// belongs to no face. A pair of distinct vertices at the same place (real
+/// springs `springs` asks for. Internal particles (a centre, a lattice) come
+/// after the surface's and belong to no face. A pair of distinct vertices at the same place (real
 /// meshes have them: `UUSALKU.ASC`'s "Object" does) gets no spring, since a
 /// spring of zero rest length has no direction.
 pub fn surface(
@@ -48,10 +64,25 @@ pub fn surface(
         pairs.extend(bending_pairs(&faces));
     }
     let mut position = position;
-    if springs.centre {
-        let centre = position.iter().sum::<Vec3>() / count as f64;
-        position.push(centre);
-        pairs.extend((0..count).map(|i| [i, count]));
+    match springs.internal {
+        Internal::None => {}
+        Internal::Centre => {
+            let centre = position.iter().sum::<Vec3>() / count as Real;
+            position.push(centre);
+            pairs.extend((0..count).map(|i| [i, count]));
+        }
+        Internal::Lattice { spacing } => {
+            if !(spacing.is_finite() && spacing > 0.0) {
+                return Err(BuildError::OutOfRange {
+                    field: "lattice_spacing",
+                    value: spacing,
+                    reason: "the internal lattice spacing must be positive (m)",
+                });
+            }
+            let (points, ties) = lattice_fill(&position, &faces, spacing);
+            position.extend(points);
+            pairs.extend(ties);
+        }
     }
     pairs.retain(|&[a, b]| position[a] != position[b]);
     let mut body = BodyData::from_positions(position);

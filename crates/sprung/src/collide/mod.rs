@@ -1,16 +1,36 @@
-//! Colliders: static shapes the particles must stay out of (PHYSICS.md §5).
+//! Colliders: shapes the particles must stay out of, at rest or moving
+//! along a prescribed path (PHYSICS.md §5).
 //!
-//! A collider is a [`Shape`] (which side is outside, and how deep a point
-//! is) and a [`ContactResponse`]: either the *projection* form, a stage
-//! after integration that moves a penetrating particle back to the surface
-//! and reflects its velocity, or the *penalty* form, a virtual spring that
-//! acts as a force while the particle is inside.
+//! A [`Collider`] is a [`Shape`] (which side is outside, and how deep a
+//! point is), a [`ContactResponse`] and an optional kinematic [`Path`]. The
+//! responses are the *projection* form, a stage after integration that moves
+//! a penetrating particle back to the surface and reflects its velocity, and
+//! the *penalty* form, a virtual spring that acts as a force while the
+//! particle is inside (PHYSICS.md §5; Witkin & Baraff, *Physically Based
+//! Modeling*, SIGGRAPH course notes, on particle collisions and contact).
+//! Both only ask the shape for a signed distance and an outward normal, and
+//! the collider for its surface velocity, so each works with every shape.
 //!
-//! To add a shape: a variant of [`Shape`] and its signed distance and
-//! outward normal in [`Shape::distance_and_normal`].
+//! **To add a shape**: a variant of [`Shape`] with a checked constructor,
+//! its signed distance and outward unit normal in
+//! [`Shape::distance_and_normal`], and its rigid translation in
+//! [`Shape::translated`]. The responses, the penalty energy and the stable
+//! time-step estimate need nothing more.
+//!
+//! **To move a collider**: give it a [`Path`] with
+//! [`Collider::with_path`]. The shape is translated by
+//! [`Path::offset_at`]`(t)` (the sphere's centre, the plane's point), and
+//! contacts use the velocity relative to the surface, `v - u(t)` with
+//! `u =` [`Path::velocity_at`]: the projection form reflects and applies
+//! friction to the relative velocity (so a moving sphere pushes particles
+//! along and a moving floor carries what rests on it), and the penalty
+//! damping acts on the relative normal velocity. The path is prescribed: the
+//! particles do not push the collider back.
 
+mod path;
 mod response;
 
+pub use path::Path;
 pub use response::{penalty_force, project};
 
 use crate::error::BuildError;
@@ -26,6 +46,13 @@ pub enum Shape {
         point: Vec3,
         /// Unit normal pointing out of the solid.
         normal: Vec3,
+    },
+    /// The solid ball of radius `radius` (m) about `centre` (m).
+    Sphere {
+        /// Centre (m).
+        centre: Vec3,
+        /// Radius (m), positive.
+        radius: Real,
     },
 }
 
@@ -54,11 +81,62 @@ impl Shape {
         })
     }
 
+    /// A sphere (solid ball) about `centre` (m) of radius `radius` (m).
+    /// Refused: a non-finite centre (field `sphere.centre`, index of the
+    /// component) or a radius that is not positive and finite
+    /// (`sphere.radius`).
+    pub fn sphere(centre: Vec3, radius: Real) -> Result<Self, BuildError> {
+        if let Some((index, value)) = centre
+            .to_array()
+            .into_iter()
+            .enumerate()
+            .find(|(_, c)| !c.is_finite())
+        {
+            return Err(BuildError::NotFinite {
+                field: "sphere.centre",
+                index,
+                value,
+            });
+        }
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(BuildError::OutOfRange {
+                field: "sphere.radius",
+                value: radius,
+                reason: "the sphere needs a positive, finite radius (m)",
+            });
+        }
+        Ok(Shape::Sphere { centre, radius })
+    }
+
     /// Signed distance of `x` from the surface (m, negative inside) and the
-    /// outward unit normal there.
+    /// outward unit normal there. For a sphere: `|x - c| - r` and
+    /// `(x - c) / |x - c|`, with the normal `+y` at the centre itself.
     pub fn distance_and_normal(&self, x: Vec3) -> (Real, Vec3) {
         match *self {
             Shape::Plane { point, normal } => ((x - point).dot(normal), normal),
+            Shape::Sphere { centre, radius } => {
+                let offset = x - centre;
+                let length = offset.length();
+                if length > 0.0 {
+                    (length - radius, offset / length)
+                } else {
+                    (-radius, Vec3::Y)
+                }
+            }
+        }
+    }
+
+    /// The same shape moved rigidly by `offset` (m).
+    pub fn translated(&self, offset: Vec3) -> Self {
+        match *self {
+            Shape::Plane { point, normal } => Shape::Plane {
+                point: point + offset,
+                normal,
+            },
+            Shape::Sphere { centre, radius } => Shape::Sphere {
+                centre: centre + offset,
+                radius,
+            },
         }
     }
 }
@@ -66,8 +144,9 @@ impl Shape {
 /// How a collider answers a particle that has gone inside it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ContactResponse {
-    /// Move the particle onto the surface; reflect the normal velocity times
-    /// `restitution` and slow the tangential velocity by Coulomb friction.
+    /// Move the particle onto the surface; reflect the normal velocity
+    /// (relative to the surface) times `restitution` and slow the relative
+    /// tangential velocity by Coulomb friction.
     Projection {
         /// Coefficient of restitution `e` in [0, 1]: a drop from `h`
         /// bounces to `e² h`.
@@ -76,7 +155,8 @@ pub enum ContactResponse {
         /// `μ` times the normal velocity change from the tangential speed.
         friction: Real,
     },
-    /// A virtual spring `f = k (depth) n - c (v·n) n` while inside.
+    /// A virtual spring `f = k (depth) n - c ((v - u)·n) n` while inside,
+    /// `u` the surface velocity.
     Penalty {
         /// Penalty stiffness `k_c` (N/m).
         stiffness: Real,
@@ -144,20 +224,52 @@ impl ContactResponse {
     }
 }
 
-/// A shape and the way it answers contacts.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A shape, the way it answers contacts, and optionally the path it moves
+/// along.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Collider {
-    /// The geometry.
+    /// The geometry at rest (at displacement zero).
     pub shape: Shape,
     /// Projection or penalty.
     pub response: ContactResponse,
+    /// Kinematic motion: the shape is translated by `path.offset_at(t)`.
+    /// `None`: static.
+    pub path: Option<Path>,
 }
 
 impl Collider {
-    /// A collider, with its coefficients checked.
+    /// A static collider, with its coefficients checked.
     pub fn new(shape: Shape, response: ContactResponse) -> Result<Self, BuildError> {
         response.validate()?;
-        Ok(Collider { shape, response })
+        Ok(Collider {
+            shape,
+            response,
+            path: None,
+        })
+    }
+
+    /// The same collider moving along `path` (its shape translated by the
+    /// path's displacement at each time).
+    pub fn with_path(mut self, path: Path) -> Self {
+        self.path = Some(path);
+        self
+    }
+
+    /// The shape where it is at `time` (s).
+    pub fn shape_at(&self, time: Real) -> Shape {
+        match &self.path {
+            Some(path) => self.shape.translated(path.offset_at(time)),
+            None => self.shape,
+        }
+    }
+
+    /// Velocity of the surface at `time` (m/s): the path's velocity, zero
+    /// for a static collider.
+    pub fn velocity_at(&self, time: Real) -> Vec3 {
+        match &self.path {
+            Some(path) => path.velocity_at(time),
+            None => Vec3::ZERO,
+        }
     }
 
     /// Penalty stiffness (N/m), or 0 for the projection form: it bounds the
@@ -169,16 +281,18 @@ impl Collider {
         }
     }
 
-    /// Elastic energy stored in the penalty springs of particles at
-    /// `position` (J); zero for the projection form.
-    pub fn contact_energy(&self, position: &[Vec3]) -> Real {
+    /// Elastic energy `Σ ½ k_c depth²` stored in the penalty springs of
+    /// particles at `position` (m) against the shape where it is at `time`
+    /// (s), in J; zero for the projection form.
+    pub fn contact_energy(&self, time: Real, position: &[Vec3]) -> Real {
         let stiffness = self.penalty_stiffness();
         if stiffness == 0.0 {
             return 0.0;
         }
+        let shape = self.shape_at(time);
         position
             .iter()
-            .map(|&x| self.shape.distance_and_normal(x).0.min(0.0))
+            .map(|&x| shape.distance_and_normal(x).0.min(0.0))
             .map(|depth| 0.5 * stiffness * depth * depth)
             .sum()
     }

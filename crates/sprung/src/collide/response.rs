@@ -1,17 +1,23 @@
 //! The two contact responses (PHYSICS.md §5), written against any
-//! [`Shape`]'s signed distance and normal.
+//! [`Shape`](super::Shape)'s signed distance and normal and the collider's
+//! surface velocity, so they serve every shape, static or moving.
 
 use super::{Collider, ContactResponse};
 use crate::{Real, Vec3};
 
-/// Projection stage: every movable particle found inside `collider` is put
-/// back on its surface; the normal velocity, if it points inward, is
-/// reflected and scaled by the restitution `e`; the tangential speed drops by
-/// `μ (1 + e) |v_n|` (Coulomb friction: the tangential impulse is at most `μ`
-/// times the normal one), never below zero. A point sliding on a plane under
-/// gravity thus decelerates at `μ g` when `e = 0`.
+/// Projection stage at `time` (s), the end of the step: every movable
+/// particle found inside `collider` (where it is at `time`) is put back on
+/// its surface, along the normal. With `u` the surface velocity and
+/// `w = v - u` the relative velocity: the normal part of `w`, if it points
+/// inward, is reflected and scaled by the restitution `e`; the tangential
+/// part of `w` shrinks by `μ (1 + e) |w_n|` (Coulomb friction: the
+/// tangential impulse is at most `μ` times the normal one), never below zero.
+/// A point sliding on a static plane under gravity thus decelerates at
+/// `μ g` when `e = 0`, and a point resting on a moving plane is dragged
+/// along at `μ g` until it moves with it.
 pub fn project(
     collider: &Collider,
+    time: Real,
     position: &mut [Vec3],
     velocity: &mut [Vec3],
     inverse_mass: &[Real],
@@ -23,20 +29,23 @@ pub fn project(
     else {
         return;
     };
+    let shape = collider.shape_at(time);
+    let surface_velocity = collider.velocity_at(time);
     for i in 0..position.len() {
         if inverse_mass[i] == 0.0 {
             continue;
         }
-        let (distance, normal) = collider.shape.distance_and_normal(position[i]);
+        let (distance, normal) = shape.distance_and_normal(position[i]);
         if distance >= 0.0 {
             continue;
         }
         position[i] -= distance * normal;
-        let normal_speed = velocity[i].dot(normal);
+        let relative = velocity[i] - surface_velocity;
+        let normal_speed = relative.dot(normal);
         if normal_speed >= 0.0 {
             continue;
         }
-        let tangential = velocity[i] - normal_speed * normal;
+        let tangential = relative - normal_speed * normal;
         let tangential_speed = tangential.length();
         let slowdown = friction * (1.0 + restitution) * -normal_speed;
         let kept = if tangential_speed > slowdown {
@@ -44,14 +53,17 @@ pub fn project(
         } else {
             Vec3::ZERO
         };
-        velocity[i] = kept - restitution * normal_speed * normal;
+        velocity[i] = surface_velocity + kept - restitution * normal_speed * normal;
     }
 }
 
-/// Penalty force: a virtual spring `k depth n` pushing each particle inside
-/// `collider` out, with damping `-c (v·n) n` on its normal velocity.
+/// Penalty force (N) at `time` (s), the integrator's trial time: a virtual
+/// spring `k depth n` pushing each particle inside `collider` (where it is
+/// at `time`) out, with damping `-c ((v - u)·n) n` on its normal velocity
+/// relative to the surface velocity `u`.
 pub fn penalty_force(
     collider: &Collider,
+    time: Real,
     position: &[Vec3],
     velocity: &[Vec3],
     force: &mut [Vec3],
@@ -59,10 +71,13 @@ pub fn penalty_force(
     let ContactResponse::Penalty { stiffness, damping } = collider.response else {
         return;
     };
+    let shape = collider.shape_at(time);
+    let surface_velocity = collider.velocity_at(time);
     for i in 0..position.len() {
-        let (distance, normal) = collider.shape.distance_and_normal(position[i]);
+        let (distance, normal) = shape.distance_and_normal(position[i]);
         if distance < 0.0 {
-            force[i] += (-stiffness * distance - damping * velocity[i].dot(normal)) * normal;
+            let normal_speed = (velocity[i] - surface_velocity).dot(normal);
+            force[i] += (-stiffness * distance - damping * normal_speed) * normal;
         }
     }
 }

@@ -11,6 +11,7 @@
 
 mod drag;
 mod gravity;
+mod mouse;
 mod pressure;
 mod spring;
 mod wind;
@@ -18,6 +19,7 @@ mod wind_field;
 
 pub use drag::AirDrag;
 pub use gravity::Gravity;
+pub use mouse::MouseSpring;
 pub use pressure::{pressure, GasPressure};
 pub use spring::{spring_energy, SpringForce};
 pub use wind::{Wind, WindModel, AIR_DENSITY};
