@@ -72,6 +72,18 @@ const DEMOS: &[Demo] = &[
         every_integrator: false,
     },
     Demo {
+        name: "drape",
+        about: "a cloth dropped over a ball drapes around it",
+        scene: scene!("drape.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "poke",
+        about: "a moving ball pushes into the inflated horse and pulls back out",
+        scene: scene!("poke.toml"),
+        every_integrator: false,
+    },
+    Demo {
         name: "cloth",
         about: "a cloth hanging from two corners",
         scene: scene!("cloth.toml"),

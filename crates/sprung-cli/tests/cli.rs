@@ -291,6 +291,8 @@ fn demo_list_names_every_demo() {
         "balloon",
         "flag",
         "billow",
+        "drape",
+        "poke",
         "cloth",
         "rope",
         "rope_one_sided",

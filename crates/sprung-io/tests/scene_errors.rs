@@ -232,9 +232,43 @@ fn collider_coefficients() {
     assert_error(&format!("{GOOD}{flat}"), 11, &["non-zero"]);
     assert_error(
         &format!("{GOOD}{plane}restitution = 0.5\npenalty_stiffness = 100.0\n"),
-        13,
-        &["cannot be combined"],
+        12,
+        &["`restitution` belongs to the projection form"],
     );
+}
+
+#[test]
+fn sphere_colliders_and_paths() {
+    // GOOD has 9 lines: `[[collider]]` is line 10, the shape line 11.
+    let sphere = |radius: &str| {
+        format!("{GOOD}[[collider]]\nsphere = {{ centre = [0.0, 0.0, 0.0], radius = {radius} }}\n")
+    };
+    assert_error(&sphere("0.0"), 11, &["`sphere.radius` = 0"]);
+    assert_error(&sphere("-1.0"), 11, &["`sphere.radius` = -1"]);
+    let both = format!("{GOOD}[[collider]]\nplane = {{ point = [0.0, 0.0], normal = [0.0, 1.0] }}\nsphere = {{ centre = [0.0, 0.0], radius = 1.0 }}\n");
+    assert_error(&both, 12, &["a `plane` or a `sphere`, not both"]);
+    let none = format!("{GOOD}[[collider]]\nfriction = 0.5\n");
+    assert_error(&none, 10, &["a collider needs a shape"]);
+    assert_error(
+        &format!(
+            "{}path = [[1.0, 0.0, 0.0], [0.5, 1.0, 0.0]]\n",
+            sphere("1.0")
+        ),
+        12,
+        &["path"],
+    );
+    let moving = format!("{}path = [[0.0, 0.0, 0.0, 0.0], [2.0, 4.0, 0.0, 0.0]]\npenalty_stiffness = 1000.0\nfriction = 0.3\n", sphere("1.0"));
+    let scene = parse_scene(&moving, Path::new("s.toml")).unwrap_or_else(|e| panic!("{e}"));
+    // Halfway along the path, the sphere has moved 2 m along x at 2 m/s.
+    let collider = &scene.world.colliders[0];
+    assert_eq!(
+        collider.shape_at(1.0),
+        sprung::Shape::Sphere {
+            centre: sprung::Vec3::new(2.0, 0.0, 0.0),
+            radius: 1.0
+        }
+    );
+    assert_eq!(collider.velocity_at(1.0), sprung::Vec3::new(2.0, 0.0, 0.0));
 }
 
 #[test]

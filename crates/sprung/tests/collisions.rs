@@ -163,7 +163,11 @@ fn a_particle_rests_on_a_penalty_floor_at_depth_m_g_over_k() {
     let damping = 2.0 * (stiffness * mass).sqrt(); // critical: no bounce
     let expected = mass * G / stiffness;
     for kind in IntegratorKind::ALL {
-        let response = ContactResponse::Penalty { stiffness, damping };
+        let response = ContactResponse::Penalty {
+            stiffness,
+            damping,
+            friction: 0.0,
+        };
         let mut world = particle_over_floor(kind, mass, Vec3::ZERO, Vec3::ZERO, response);
         // dt = 1e-4 s: ω dt = 0.01, and c dt / m = 0.02, far inside every
         // method's stability region. After 0.5 s the critically damped
@@ -186,4 +190,65 @@ fn a_particle_rests_on_a_penalty_floor_at_depth_m_g_over_k() {
             "{kind}: contact energy {contact:.6e} J, expected ½ k_c d² = {expected_energy:.6e} J"
         );
     }
+}
+
+#[test]
+fn penalty_friction_decelerates_a_slide_at_mu_g() {
+    // A 1 kg point resting in a critically damped penalty floor (k_c = 1e5
+    // N/m, depth m g / k_c ≈ 0.1 mm) slides at 2 m/s with μ = 0.4. Once the
+    // normal oscillation has died out, f_n = m g and the regularised
+    // Coulomb force is μ m g · v / √(v² + v_ε²), within (v_ε / v)² / 2 <
+    // 2e-5 of μ m g while v > 1.5 m/s. The deceleration measured between
+    // two instants is μ g to that, plus symplectic Euler's O(dt) error in a
+    // smooth motion: 0.5 % covers both with a wide margin.
+    let (mass, g, mu, stiffness) = (1.0, 9.81, 0.4, 1e5);
+    let damping = 2.0 * (stiffness * mass).sqrt();
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    world.settings.gravity = Vec3::new(0.0, -g, 0.0);
+    let depth = mass * g / stiffness;
+    let point = BodyData::from_positions(vec![Vec3::new(0.0, -depth, 0.0)])
+        .with_mass(mass)
+        .with_velocity(Vec3::new(2.0, 0.0, 0.0));
+    world.add_body("point", point).expect("valid");
+    let plane = Shape::plane(Vec3::ZERO, Vec3::Y).expect("plane");
+    let response = ContactResponse::Penalty {
+        stiffness,
+        damping,
+        friction: mu,
+    };
+    world
+        .colliders
+        .push(Collider::new(plane, response).expect("collider"));
+    let dt = 1e-4;
+    let speed_after = |world: &mut World, steps: usize| {
+        for _ in 0..steps {
+            world.step(dt).expect("stable");
+        }
+        world.particles.velocity[0].x
+    };
+    let v1 = speed_after(&mut world, 100);
+    let v2 = speed_after(&mut world, 1000);
+    let deceleration = (v1 - v2) / (1000.0 * dt);
+    assert!(v2 > 1.5, "still sliding fast: {v2}");
+    assert!(
+        (deceleration - mu * g).abs() < 5e-3 * mu * g,
+        "deceleration {deceleration} vs μg {}",
+        mu * g
+    );
+    // Without friction the same slide keeps its speed (no tangential force).
+    let mut frictionless = World::new(IntegratorKind::SymplecticEuler);
+    frictionless.settings.gravity = Vec3::new(0.0, -g, 0.0);
+    let point = BodyData::from_positions(vec![Vec3::new(0.0, -depth, 0.0)])
+        .with_mass(mass)
+        .with_velocity(Vec3::new(2.0, 0.0, 0.0));
+    frictionless.add_body("point", point).expect("valid");
+    let response = ContactResponse::Penalty {
+        stiffness,
+        damping,
+        friction: 0.0,
+    };
+    frictionless
+        .colliders
+        .push(Collider::new(plane, response).expect("collider"));
+    assert_eq!(speed_after(&mut frictionless, 1100), 2.0);
 }

@@ -302,7 +302,11 @@ fn a_particle_rests_on_top_of_a_penalty_sphere_at_depth_m_g_over_k() {
     let centre = Vec3::new(0.5, -1.0, 0.25);
     let expected = mass * G / stiffness;
     for kind in IntegratorKind::ALL {
-        let response = ContactResponse::Penalty { stiffness, damping };
+        let response = ContactResponse::Penalty {
+            stiffness,
+            damping,
+            friction: 0.0,
+        };
         let collider = Collider::new(sphere(centre, radius), response).expect("valid response");
         let top = centre + Vec3::new(0.0, radius, 0.0);
         let mut world = particles_and(
@@ -349,7 +353,11 @@ fn a_rising_penalty_sphere_carries_a_particle_at_depth_m_g_over_k() {
     let centre = Vec3::new(0.5, -1.0, 0.25);
     let expected = mass * G / stiffness;
     for kind in IntegratorKind::ALL {
-        let response = ContactResponse::Penalty { stiffness, damping };
+        let response = ContactResponse::Penalty {
+            stiffness,
+            damping,
+            friction: 0.0,
+        };
         let collider = Collider::new(sphere(centre, radius), response)
             .expect("valid response")
             .with_path(steady(Vec3::new(0.0, rise, 0.0)));
@@ -394,6 +402,7 @@ fn penalty_sphere_contact_energy_is_half_k_depth_squared() {
     let response = ContactResponse::Penalty {
         stiffness,
         damping: 0.0,
+        friction: 0.0,
     };
     let collider = Collider::new(sphere(centre, radius), response).expect("valid response");
     // Particles at known depths along assorted directions, and two outside.
@@ -805,6 +814,7 @@ fn bad_paths_spheres_and_penalty_coefficients_are_refused() {
     let response = ContactResponse::Penalty {
         stiffness: 0.0,
         damping: 1.0,
+        friction: 0.0,
     };
     let error = Collider::new(sphere(Vec3::ZERO, 1.0), response).expect_err("k_c = 0");
     assert!(
@@ -938,7 +948,11 @@ fn a_cloth_dropped_on_a_penalty_sphere_stays_within_the_impact_depth() {
     let stiffness = 1000.0; // N/m: ω_c = √(k_c / m) ≈ 1060 rad/s
     let damping = 2.0 * (stiffness * mass).sqrt(); // critical, per particle
     let omega = (stiffness / mass).sqrt();
-    let mut world = cloth_over_sphere(ContactResponse::Penalty { stiffness, damping });
+    let mut world = cloth_over_sphere(ContactResponse::Penalty {
+        stiffness,
+        damping,
+        friction: 0.0,
+    });
     let count = world.particles.len();
     // Per particle: its inward normal speed on the last step it was
     // outside (the speed it enters with), and the largest entry speed and

@@ -82,7 +82,11 @@ fn write_cell_data(out: &mut String, world: &World, faces: usize) {
     let _ = writeln!(out, "SCALARS strain double 1\nLOOKUP_TABLE default");
     for s in 0..springs.len() {
         let d = position[springs.first[s] as usize].distance(position[springs.second[s] as usize]);
-        let _ = writeln!(out, "{}", (d - springs.rest_length[s]) / springs.rest_length[s]);
+        let _ = writeln!(
+            out,
+            "{}",
+            (d - springs.rest_length[s]) / springs.rest_length[s]
+        );
     }
     for _ in 0..faces {
         let _ = writeln!(out, "0");

@@ -246,7 +246,10 @@ impl<'a> Reader<'a> {
         let start = self.line();
         let values = self.numbers(coordinates, "a point coordinate")?;
         if let Some(bad) = values.iter().position(|v| !v.is_finite()) {
-            let line = self.tokens.get(self.next - coordinates + bad).map_or(start, |t| t.1);
+            let line = self
+                .tokens
+                .get(self.next - coordinates + bad)
+                .map_or(start, |t| t.1);
             return Err(self.error(line, "a point coordinate is not finite"));
         }
         frame.points = values
@@ -267,9 +270,9 @@ impl<'a> Reader<'a> {
             let mut cell = Vec::with_capacity(k.min(available));
             for _ in 0..k {
                 let (token, line) = self.token("a point index")?;
-                let index: u32 = token.parse().map_err(|_| {
-                    self.error(line, format!("\"{token}\" is not a point index"))
-                })?;
+                let index: u32 = token
+                    .parse()
+                    .map_err(|_| self.error(line, format!("\"{token}\" is not a point index")))?;
                 if index as usize >= frame.points.len() {
                     return Err(self.error(
                         line,
@@ -325,10 +328,7 @@ impl<'a> Reader<'a> {
         let tuples = match section {
             Section::Point(n) | Section::Cell(n) => n,
             Section::None => {
-                return Err(self.error(
-                    line,
-                    format!("{keyword} before POINT_DATA or CELL_DATA"),
-                ))
+                return Err(self.error(line, format!("{keyword} before POINT_DATA or CELL_DATA")))
             }
         };
         let keyword = keyword.to_ascii_uppercase();

@@ -16,7 +16,7 @@ pub use error::SceneError;
 
 use std::path::{Path, PathBuf};
 
-use sprung::{Collider, ContactResponse, IntegratorKind, Real, Shape, Vec3, World};
+use sprung::{collide, Collider, ContactResponse, IntegratorKind, Real, Shape, Vec3, World};
 
 use error::{line_of, line_of_key};
 use tables::{ColliderTable, SceneFile, SimTable};
@@ -200,30 +200,39 @@ fn apply_settings(world: &mut World, sim: &SimTable) -> Result<(), KeyError> {
 }
 
 fn collider(table: &ColliderTable) -> Result<Collider, KeyError> {
-    let shape = match &table.plane {
-        Some(plane) => {
+    let shape = match (&table.plane, &table.sphere) {
+        (Some(_), Some(_)) => {
+            return Err(("sphere", "a collider is a `plane` or a `sphere`, not both".into()));
+        }
+        (Some(plane), None) => {
             let point = vector("plane", &plane.point)?;
             let normal = vector("plane", &plane.normal)?;
             Shape::plane(point, normal).map_err(|e| ("plane", e.to_string()))?
         }
-        None => {
+        (None, Some(sphere)) => {
+            let centre = vector("sphere", &sphere.centre)?;
+            Shape::sphere(centre, sphere.radius).map_err(|e| ("sphere", e.to_string()))?
+        }
+        (None, None) => {
             return Err((
                 "plane",
-                "a collider needs a shape: `plane = { point, normal }`".into(),
+                "a collider needs a shape: `plane = { point, normal }` or `sphere = { centre, radius }`".into(),
             ))
         }
     };
+    let friction = table.friction.unwrap_or(0.0);
     let response = match table.penalty_stiffness {
         Some(stiffness) => {
-            if table.restitution.is_some() || table.friction.is_some() {
+            if table.restitution.is_some() {
                 return Err((
-                    "penalty_stiffness",
-                    "`penalty_stiffness` (penalty form) cannot be combined with `restitution` or `friction` (projection form)".into(),
+                    "restitution",
+                    "`restitution` belongs to the projection form; the penalty form (`penalty_stiffness`) bounces through its spring".into(),
                 ));
             }
             ContactResponse::Penalty {
                 stiffness,
                 damping: table.penalty_damping.unwrap_or(0.0),
+                friction,
             }
         }
         None => {
@@ -235,14 +244,27 @@ fn collider(table: &ColliderTable) -> Result<Collider, KeyError> {
             }
             ContactResponse::Projection {
                 restitution: table.restitution.unwrap_or(0.0),
-                friction: table.friction.unwrap_or(0.0),
+                friction,
             }
         }
     };
-    Collider::new(shape, response).map_err(|e| {
-        let key = body::key_of(&e);
-        (key, e.to_string())
-    })
+    let mut collider =
+        Collider::new(shape, response).map_err(|e| (body::key_of(&e), e.to_string()))?;
+    if let Some(keyframes) = &table.path {
+        let keyframes = keyframes
+            .iter()
+            .map(|k| match k.as_slice() {
+                [t, rest @ ..] => Ok((*t, vector("path", rest)?)),
+                [] => Err((
+                    "path",
+                    "a `path` keyframe is [time, x, y] or [time, x, y, z]".to_string(),
+                )),
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let path = collide::Path::new(keyframes).map_err(|e| ("path", e.to_string()))?;
+        collider = collider.with_path(path);
+    }
+    Ok(collider)
 }
 
 /// `value` if it is positive and finite, else an error for `key`.

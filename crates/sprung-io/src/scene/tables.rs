@@ -244,6 +244,11 @@ pub(crate) struct ColliderTable {
     #[serde(default)]
     pub plane: Option<PlaneTable>,
     #[serde(default)]
+    pub sphere: Option<SphereColliderTable>,
+    /// Keyframes `[time, x, y, z]`: the displacement of a moving collider.
+    #[serde(default)]
+    pub path: Option<Vec<Vec<f64>>>,
+    #[serde(default)]
     pub restitution: Option<f64>,
     #[serde(default)]
     pub friction: Option<f64>,
@@ -251,6 +256,14 @@ pub(crate) struct ColliderTable {
     pub penalty_stiffness: Option<f64>,
     #[serde(default)]
     pub penalty_damping: Option<f64>,
+}
+
+/// `sphere = { centre, radius }` on a collider.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SphereColliderTable {
+    pub centre: Vec<f64>,
+    pub radius: f64,
 }
 
 /// `plane = { point, normal }`.

@@ -156,12 +156,15 @@ pub enum ContactResponse {
         friction: Real,
     },
     /// A virtual spring `f = k (depth) n - c ((v - u)·n) n` while inside,
-    /// `u` the surface velocity.
+    /// `u` the surface velocity, with regularised Coulomb friction along the
+    /// surface (see [`penalty_force`]).
     Penalty {
         /// Penalty stiffness `k_c` (N/m).
         stiffness: Real,
         /// Penalty damping along the normal (N·s/m).
         damping: Real,
+        /// Coulomb friction coefficient `μ` ≥ 0 (0 for none).
+        friction: Real,
     },
 }
 
@@ -187,7 +190,17 @@ impl ContactResponse {
                     "friction must not be negative",
                 ),
             ],
-            ContactResponse::Penalty { stiffness, damping } => &[
+            ContactResponse::Penalty {
+                stiffness,
+                damping,
+                friction,
+            } => &[
+                (
+                    "friction",
+                    *friction,
+                    Real::INFINITY,
+                    "friction must not be negative",
+                ),
                 (
                     "penalty_stiffness",
                     *stiffness,

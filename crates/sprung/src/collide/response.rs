@@ -57,10 +57,17 @@ pub fn project(
     }
 }
 
+/// Relative tangential speed (m/s) below which penalty friction fades
+/// linearly to zero, so that the force is smooth for the integrators.
+pub const FRICTION_REGULARISATION: Real = 0.01;
+
 /// Penalty force (N) at `time` (s), the integrator's trial time: a virtual
 /// spring `k depth n` pushing each particle inside `collider` (where it is
 /// at `time`) out, with damping `-c ((v - u)·n) n` on its normal velocity
-/// relative to the surface velocity `u`.
+/// relative to the surface velocity `u`, and friction
+/// `-μ |f_n| v_t / √(|v_t|² + v_ε²)` against the relative tangential
+/// velocity `v_t` (Coulomb's `μ |f_n|` when sliding, regularised below
+/// [`FRICTION_REGULARISATION`] = `v_ε`).
 pub fn penalty_force(
     collider: &Collider,
     time: Real,
@@ -68,7 +75,12 @@ pub fn penalty_force(
     velocity: &[Vec3],
     force: &mut [Vec3],
 ) {
-    let ContactResponse::Penalty { stiffness, damping } = collider.response else {
+    let ContactResponse::Penalty {
+        stiffness,
+        damping,
+        friction,
+    } = collider.response
+    else {
         return;
     };
     let shape = collider.shape_at(time);
@@ -76,8 +88,15 @@ pub fn penalty_force(
     for i in 0..position.len() {
         let (distance, normal) = shape.distance_and_normal(position[i]);
         if distance < 0.0 {
-            let normal_speed = (velocity[i] - surface_velocity).dot(normal);
-            force[i] += (-stiffness * distance - damping * normal_speed) * normal;
+            let relative = velocity[i] - surface_velocity;
+            let normal_speed = relative.dot(normal);
+            let push = (-stiffness * distance - damping * normal_speed).max(0.0);
+            force[i] += push * normal;
+            if friction > 0.0 {
+                let sliding = relative - normal_speed * normal;
+                let scale = (sliding.length_squared() + FRICTION_REGULARISATION.powi(2)).sqrt();
+                force[i] -= friction * push * sliding / scale;
+            }
         }
     }
 }

@@ -79,8 +79,9 @@ pub struct Wind {
 }
 
 impl Wind {
-    /// Wind from `field` acting through `model`, its coefficients checked.
+    /// Wind from `field` acting through `model`, both checked.
     pub fn new(field: WindField, model: WindModel) -> Result<Self, BuildError> {
+        field.validate()?;
         model.validate()?;
         Ok(Wind {
             field,

@@ -4,6 +4,7 @@
 //! few sinusoids whose frequencies, directions and phases come from a
 //! seeded generator, so a run repeats exactly for the same seed.
 
+use crate::error::BuildError;
 use crate::{Real, Vec3};
 
 /// Gusts: the mean wind's strength varies as `1 + amplitude · g(t)`, with
@@ -117,6 +118,52 @@ impl WindField {
             }
         }
         wind
+    }
+
+    /// Check the parameters: a finite mean; gust amplitude in [0, 1] and a
+    /// positive period; turbulence amplitude not negative and positive
+    /// scales.
+    pub fn validate(&self) -> Result<(), BuildError> {
+        let bad = |field: &'static str, value: Real, reason: &'static str| {
+            Err(BuildError::OutOfRange {
+                field,
+                value,
+                reason,
+            })
+        };
+        if !self.velocity.is_finite() {
+            return bad(
+                "wind.velocity",
+                self.velocity.length(),
+                "must be finite (m/s)",
+            );
+        }
+        if let Some((g, _)) = &self.gusts {
+            if !(g.amplitude.is_finite() && (0.0..=1.0).contains(&g.amplitude)) {
+                return bad("gust.amplitude", g.amplitude, "must be in [0, 1]");
+            }
+            if !(g.period.is_finite() && g.period > 0.0) {
+                return bad("gust.period", g.period, "must be positive (s)");
+            }
+        }
+        if let Some((t, _)) = &self.turbulence {
+            if !(t.amplitude.is_finite() && t.amplitude >= 0.0) {
+                return bad(
+                    "turbulence.amplitude",
+                    t.amplitude,
+                    "must be finite and not negative (m/s)",
+                );
+            }
+            for (field, value) in [
+                ("turbulence.length_scale", t.length_scale),
+                ("turbulence.time_scale", t.time_scale),
+            ] {
+                if !(value.is_finite() && value > 0.0) {
+                    return bad(field, value, "must be positive");
+                }
+            }
+        }
+        Ok(())
     }
 
     /// True when the wind is the same everywhere at all times.
