@@ -179,6 +179,14 @@ impl World {
     }
 
     fn integrate(&mut self, dt: Real) {
+        let time = self.time;
+        let (mut dynamics, position, velocity, integrator) = self.split();
+        integrator.step(time, dt, position, velocity, &mut dynamics);
+    }
+
+    /// Split the world into its derivative function and the state the
+    /// integrator advances (disjoint borrows of its fields).
+    fn split(&mut self) -> (Dynamics<'_>, &mut [Vec3], &mut [Vec3], &mut dyn Integrator) {
         let Particles {
             position,
             velocity,
@@ -186,7 +194,7 @@ impl World {
             mass,
             inverse_mass,
         } = &mut self.particles;
-        let mut dynamics = Dynamics {
+        let dynamics = Dynamics {
             settings: &self.settings,
             wind: self.wind.as_mut(),
             mouse: self.mouse.as_mut(),
@@ -198,8 +206,7 @@ impl World {
             inverse_mass,
             force,
         };
-        self.integrator
-            .step(self.time, dt, position, velocity, &mut dynamics);
+        (dynamics, position, velocity, self.integrator.as_mut())
     }
 
     fn advance_time(&mut self, dt: Real) {
@@ -258,26 +265,9 @@ impl World {
 
     /// Evaluate every force at the current state into `particles.force` (N).
     pub fn evaluate_forces(&mut self) {
-        let Particles {
-            position,
-            velocity,
-            force,
-            mass,
-            inverse_mass,
-        } = &mut self.particles;
-        Dynamics {
-            settings: &self.settings,
-            wind: self.wind.as_mut(),
-            mouse: self.mouse.as_mut(),
-            forces: &mut self.forces,
-            colliders: &self.colliders,
-            springs: &self.springs,
-            bodies: &self.bodies,
-            mass,
-            inverse_mass,
-            force,
-        }
-        .accumulate_forces(self.time, position, velocity);
+        let time = self.time;
+        let (mut dynamics, position, velocity, _) = self.split();
+        dynamics.accumulate_forces(time, position, velocity);
     }
 
     /// Every energy term at the current state (J).
