@@ -201,7 +201,7 @@ fn penalty_friction_decelerates_a_slide_at_mu_g() {
     // 2e-5 of μ m g while v > 1.5 m/s. The deceleration measured between
     // two instants is μ g to that, plus symplectic Euler's O(dt) error in a
     // smooth motion: 0.5 % covers both with a wide margin.
-    let (mass, g, mu, stiffness) = (1.0, 9.81, 0.4, 1e5);
+    let (mass, g, mu, stiffness): (Real, Real, Real, Real) = (1.0, 9.81, 0.4, 1e5);
     let damping = 2.0 * (stiffness * mass).sqrt();
     let mut world = World::new(IntegratorKind::SymplecticEuler);
     world.settings.gravity = Vec3::new(0.0, -g, 0.0);
