@@ -31,7 +31,7 @@ mod path;
 mod response;
 
 pub use path::Path;
-pub use response::{penalty_force, project};
+pub use response::{penalty_force, project, FRICTION_REGULARISATION};
 
 use crate::error::BuildError;
 use crate::{Real, Vec3};
