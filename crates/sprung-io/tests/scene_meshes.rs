@@ -232,3 +232,16 @@ fn a_lattice_fills_the_textbook_cube_and_holds_its_shape_without_gas() {
     });
     assert!(high - low > 1.8, "lattice cube height {}", high - low);
 }
+
+#[test]
+fn lattice_spacing_is_in_scene_metres_after_scaling() {
+    // cube.asc scaled ×2 has side 4: at spacing 1 m, 4 points fit along each
+    // axis, as at spacing 0.5 m on the unscaled cube: 64 lattice particles.
+    let path = meshes_dir().join("cube.asc");
+    let text = scene(
+        &path,
+        "scale = 2.0\ninternal = \"lattice\"\nlattice_spacing = 1.0\nbending = false",
+    );
+    let scene = parse_scene(&text, Path::new("m.toml")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.world.particles.len(), 8 + 64);
+}

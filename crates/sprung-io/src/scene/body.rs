@@ -188,11 +188,13 @@ fn surface_springs(table: &BodyTable) -> Result<SurfaceSprings, KeyError> {
     let internal = match table.internal.as_deref() {
         None | Some("none") => Internal::None,
         Some("centre") | Some("center") => Internal::Centre,
+        // The spacing is in the scene's metres; the body is built in the
+        // mesh's own units and scaled afterwards.
         Some("lattice") => Internal::Lattice {
             spacing: table.lattice_spacing.ok_or((
                 "internal",
                 "`internal = \"lattice\"` needs `lattice_spacing` (m)".to_string(),
-            ))?,
+            ))? / table.scale.unwrap_or(1.0),
         },
         Some(other) => {
             return Err((

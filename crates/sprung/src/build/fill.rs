@@ -8,7 +8,7 @@ use crate::{Real, Vec3};
 /// Interior lattice points of the closed surface (`position`, `faces`) at
 /// `spacing` (m), and the springs to add: between neighbouring lattice
 /// points (26-neighbourhood) and from every surface vertex to its nearest
-/// lattice point. Indices of new points start at `position.len()`; the
+/// lattice point within a cell diagonal (`√3 spacing`). Indices of new points start at `position.len()`; the
 /// springs are pairs of indices into the surface points followed by the new
 /// points.
 pub(crate) fn lattice_fill(
@@ -64,15 +64,17 @@ pub(crate) fn lattice_fill(
             }
         }
     }
-    if !points.is_empty() {
-        for (vertex, &p) in position.iter().enumerate() {
-            let nearest = (0..points.len())
-                .min_by(|&a, &b| {
-                    points[a]
-                        .distance_squared(p)
-                        .total_cmp(&points[b].distance_squared(p))
-                })
-                .unwrap_or(0);
+    // Tie each surface vertex to its nearest lattice particle, if that is
+    // within a cell diagonal: thin parts far from the lattice (a horse's
+    // legs) stay free rather than all pulling on one interior particle.
+    let reach = 3.0_f64.sqrt() * spacing;
+    for (vertex, &p) in position.iter().enumerate() {
+        let nearest = (0..points.len()).min_by(|&a, &b| {
+            points[a]
+                .distance_squared(p)
+                .total_cmp(&points[b].distance_squared(p))
+        });
+        if let Some(nearest) = nearest.filter(|&n| points[n].distance(p) <= reach) {
             springs.push([vertex, offset + nearest]);
         }
     }
