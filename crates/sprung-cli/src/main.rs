@@ -7,7 +7,10 @@
 
 mod bench;
 mod demos;
+mod plot;
+mod render;
 mod run;
+mod view;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -43,6 +46,12 @@ enum Command {
         #[command(flatten)]
         options: RunOptions,
     },
+    /// Draw a scene or a finished run: PNG frames and an animated GIF.
+    Render(render::RenderArgs),
+    /// Plot a run's diagnostics.csv: energies, volume and pressure, probes (PNG).
+    Plot(plot::PlotArgs),
+    /// Open the interactive viewer on a scene.
+    View(view::ViewArgs),
     /// Measure the engine's speed: spring updates per second on a 128×128 cloth, steps per second of gas balls.
     Bench {
         /// Particles along each side of the cloth.
@@ -101,6 +110,9 @@ fn main() -> ExitCode {
             }
         }
         Command::Bench { size, steps } => bench::run(size, steps),
+        Command::Render(args) => render::run(&args),
+        Command::Plot(args) => plot::run(&args),
+        Command::View(args) => view::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,26 +1,11 @@
 //! The command-line contract of DESIGN.md, driven through the real binary:
 //! outputs, exit codes, blow-up handling and bad input.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn sprung(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sprung"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the sprung binary runs")
-}
+use common::{assert_no_partial_files, sprung, text, write};
 
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("write scene");
-    path
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+use std::path::Path;
 
 /// Rows of a CSV file: header, then the records.
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
@@ -46,21 +31,6 @@ fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
         })
         .collect();
     (header, rows)
-}
-
-/// Nothing left half-written anywhere under `dir`.
-fn assert_no_partial_files(dir: &Path) {
-    for entry in std::fs::read_dir(dir).expect("dir").flatten() {
-        let path = entry.path();
-        assert!(
-            !path.to_string_lossy().ends_with(".partial"),
-            "left behind: {}",
-            path.display()
-        );
-        if path.is_dir() {
-            assert_no_partial_files(&path);
-        }
-    }
 }
 
 const PENDULUM: &str = r#"[sim]

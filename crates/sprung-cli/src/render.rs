@@ -1,0 +1,234 @@
+//! `sprung render`: PNG pictures (and an animated GIF) of a scene, run in
+//! memory, or of a finished run's VTK frames. The drawing is
+//! `sprung_view::render`; this module reads the command line, picks the
+//! source and the output folder, and reports.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use sprung::{IntegratorKind, Real, Vec3};
+use sprung_io::load_scene;
+use sprung_view::render::{
+    read_run, record, render_to_dir, steps_between_pictures, RenderError, RenderSettings, Rendered,
+    Snapshot, StrainColours, DEFAULT_PICTURE_RATE,
+};
+
+use crate::run::CliError;
+
+/// Arguments of `sprung render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// A scene file (.toml) to run and draw, or a run folder holding
+    /// frames/frame_*.vtk (written by `sprung run SCENE --format vtk`).
+    source: PathBuf,
+    /// Output folder (default: out/SCENE/render for a scene, DIR/render
+    /// for a run folder).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Steps to run a scene (instead of its duration).
+    #[arg(long, conflicts_with = "time")]
+    steps: Option<u64>,
+    /// Simulated time to run a scene (s), instead of its duration.
+    #[arg(long)]
+    time: Option<f64>,
+    /// Draw every K steps of a scene (default: 25 pictures per simulated
+    /// second), or every K-th frame of a run folder (default: all).
+    #[arg(long)]
+    every: Option<u64>,
+    /// Picture width (pixels).
+    #[arg(long, default_value_t = 800)]
+    width: u32,
+    /// Picture height (pixels).
+    #[arg(long, default_value_t = 600)]
+    height: u32,
+    /// Also write OUT/animation.gif (looping).
+    #[arg(long)]
+    gif: bool,
+    /// GIF playback rate (pictures per second); default: real time.
+    #[arg(long, allow_hyphen_values = true)]
+    fps: Option<f64>,
+    /// Strain at which spring colours saturate: fully red stretched, fully
+    /// blue compressed (a fraction: 0.1 is 10 %).
+    #[arg(long, default_value_t = 0.1, allow_hyphen_values = true)]
+    strain: f64,
+    /// Draw each face's outward normal.
+    #[arg(long)]
+    normals: bool,
+    /// Draw every spring over the faces (default: only those along face
+    /// edges; shear, bending and internal springs would hide the surface).
+    #[arg(long)]
+    all_springs: bool,
+    /// Camera position x,y,z (m); default: framed automatically.
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    eye: Option<Vec3>,
+    /// Point looked at x,y,z (m); default: the centre of the bodies.
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    target: Option<Vec3>,
+    /// Vertical field of view of the perspective camera (degrees).
+    #[arg(long, default_value_t = 40.0, allow_hyphen_values = true)]
+    fov: f64,
+    /// Override a scene's integrator.
+    #[arg(long)]
+    integrator: Option<IntegratorKind>,
+    /// Print nothing but errors.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// `x,y,z` as a point (m).
+fn parse_point(text: &str) -> Result<Vec3, String> {
+    let values: Result<Vec<Real>, _> = text.split(',').map(|v| v.trim().parse()).collect();
+    match values.as_deref() {
+        Ok(&[x, y, z]) if [x, y, z].iter().all(|v| v.is_finite()) => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!(
+            "\"{text}\": expected three finite numbers x,y,z (m)"
+        )),
+    }
+}
+
+/// Run `sprung render`.
+pub fn run(args: &RenderArgs) -> Result<(), CliError> {
+    let settings = settings(args)?;
+    let source = &args.source;
+    if !source.exists() {
+        return Err(CliError::Input(format!(
+            "{}: no such scene file or run folder",
+            source.display()
+        )));
+    }
+    let (snapshots, out, blow_up) = if source.is_dir() {
+        if args.steps.is_some() || args.time.is_some() || args.integrator.is_some() {
+            return Err(CliError::Input(format!(
+                "{} is a run folder: --steps, --time and --integrator apply to scene files only",
+                source.display()
+            )));
+        }
+        let every = match args.every {
+            Some(0) => return Err(CliError::Input("--every must be at least 1".into())),
+            Some(k) => usize::try_from(k).unwrap_or(usize::MAX),
+            None => 1,
+        };
+        let snapshots = read_run(source, every).map_err(render_error)?;
+        let out = args.out.clone().unwrap_or_else(|| source.join("render"));
+        (snapshots, out, None)
+    } else {
+        let (snapshots, blow_up) = run_scene(source, args)?;
+        let stem = source.file_stem().unwrap_or_default().to_string_lossy();
+        let out = args
+            .out
+            .clone()
+            .unwrap_or_else(|| Path::new("out").join(stem.as_ref()).join("render"));
+        (snapshots, out, blow_up)
+    };
+    let rendered = render_to_dir(&snapshots, &out, &settings).map_err(render_error)?;
+    if let Some(error) = blow_up {
+        return Err(CliError::Input(format!(
+            "{error}\n(the {} pictures up to the last good step are in {})",
+            rendered.pictures.len(),
+            out.display()
+        )));
+    }
+    if !args.quiet {
+        report(source, &out, &rendered, &settings);
+    }
+    Ok(())
+}
+
+/// The picture settings from the command line, checked.
+fn settings(args: &RenderArgs) -> Result<RenderSettings, CliError> {
+    sprung_view::render::check_size(args.width, args.height).map_err(render_error)?;
+    let mut settings = RenderSettings::new(args.width, args.height);
+    settings.style.strain = StrainColours::new(args.strain).ok_or_else(|| {
+        CliError::Input(format!(
+            "--strain {}: must be a positive, finite strain (0.1 is 10 %)",
+            args.strain
+        ))
+    })?;
+    settings.style.normals = args.normals;
+    settings.style.all_springs = args.all_springs;
+    settings.gif = args.gif;
+    if let Some(fps) = args.fps {
+        if !(fps.is_finite() && fps > 0.0) {
+            return Err(CliError::Input(format!(
+                "--fps {fps}: must be a positive, finite number of pictures per second"
+            )));
+        }
+        settings.fps = Some(fps);
+    }
+    if !(args.fov.is_finite() && args.fov > 0.0 && args.fov < 180.0) {
+        return Err(CliError::Input(format!(
+            "--fov {}: must be between 0 and 180 degrees",
+            args.fov
+        )));
+    }
+    if let (Some(eye), Some(target)) = (args.eye, args.target) {
+        if eye == target {
+            return Err(CliError::Input(
+                "--eye and --target are the same point: the camera needs a direction".into(),
+            ));
+        }
+    }
+    settings.camera.eye = args.eye;
+    settings.camera.target = args.target;
+    settings.camera.fov_degrees = args.fov;
+    Ok(settings)
+}
+
+/// Load and run the scene in memory; the snapshots, and the blow-up that
+/// stopped it early, if any.
+fn run_scene(
+    path: &Path,
+    args: &RenderArgs,
+) -> Result<(Vec<Snapshot>, Option<sprung::StepError>), CliError> {
+    let mut scene = load_scene(path)?;
+    if let Some(kind) = args.integrator {
+        scene.world.set_integrator(kind);
+    }
+    let steps = match (args.steps, args.time) {
+        (Some(0), _) => return Err(CliError::Input("--steps must be at least 1".into())),
+        (Some(n), _) => n,
+        (None, Some(t)) if !(t.is_finite() && t > 0.0) => {
+            return Err(CliError::Input(format!(
+                "--time {t}: must be a positive, finite time (s)"
+            )))
+        }
+        (None, Some(t)) => ((t / scene.dt).round() as u64).max(1),
+        (None, None) => scene.steps,
+    };
+    let every = match args.every {
+        Some(0) => return Err(CliError::Input("--every must be at least 1".into())),
+        Some(k) => k,
+        None => steps_between_pictures(scene.dt, DEFAULT_PICTURE_RATE),
+    };
+    let recording = record(&mut scene.world, scene.dt, steps, every);
+    Ok((recording.snapshots, recording.blow_up))
+}
+
+fn render_error(error: RenderError) -> CliError {
+    match error {
+        RenderError::Io { .. } | RenderError::Encode(_) => CliError::Io(error.to_string()),
+        _ => CliError::Input(error.to_string()),
+    }
+}
+
+fn report(source: &Path, out: &Path, rendered: &Rendered, settings: &RenderSettings) {
+    if !rendered.strain_known {
+        eprintln!(
+            "note: some frames carry no spring rest lengths (written by an older sprung): \
+             those springs are drawn grey"
+        );
+    }
+    println!(
+        "{}: {} pictures of {}×{}{} in {}",
+        source.display(),
+        rendered.pictures.len(),
+        settings.width,
+        settings.height,
+        if rendered.gif.is_some() {
+            " and animation.gif"
+        } else {
+            ""
+        },
+        out.display()
+    );
+}

@@ -1,0 +1,51 @@
+//! Helpers shared by the command-line tests: run the binary, write
+//! scenes, read what it wrote.
+#![allow(dead_code)] // each test file uses only some of them
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Run the `sprung` binary with `args` in `dir`.
+pub fn sprung(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sprung"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the sprung binary runs")
+}
+
+/// Write `text` to `dir/name` (a scene) and return the path.
+pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write scene");
+    path
+}
+
+/// Bytes (a process's output) as text.
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Width and height from a PNG's IHDR chunk.
+pub fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).expect("png");
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{}", path.display());
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    (be(16), be(20))
+}
+
+/// Nothing left half-written anywhere under `dir`.
+pub fn assert_no_partial_files(dir: &Path) {
+    for entry in std::fs::read_dir(dir).expect("dir").flatten() {
+        let path = entry.path();
+        assert!(
+            !path.to_string_lossy().ends_with(".partial"),
+            "left behind: {}",
+            path.display()
+        );
+        if path.is_dir() {
+            assert_no_partial_files(&path);
+        }
+    }
+}

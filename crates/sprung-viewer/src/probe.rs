@@ -1,0 +1,180 @@
+//! The viewer's state for tests and for the web page: a copy written at the
+//! end of every frame, read through `extern "C"` functions that the wasm
+//! module exports (macroquad's `gl.js` keeps them in `wasm_exports`), and a
+//! request box the page uses to pick a demo.
+//!
+//! Screen positions are in the viewer's pixels (CSS pixels of the canvas on
+//! the web); world positions in metres.
+
+use std::sync::{Mutex, MutexGuard};
+
+use crate::demos::DEMOS;
+
+/// What a frame leaves behind for the page.
+#[derive(Debug, Default)]
+pub struct Probe {
+    /// Frames drawn.
+    pub frames: u32,
+    /// Frames per second, smoothed.
+    pub fps: f32,
+    /// Simulated time (s).
+    pub time: f64,
+    /// Every particle's position (m).
+    pub positions: Vec<[f64; 3]>,
+    /// Every particle's place on the screen (pixels; NaN if behind the camera).
+    pub screen: Vec<[f32; 2]>,
+    /// The grabbed particle, if any.
+    pub grabbed: Option<usize>,
+    /// The cursor's point in the world (m): the grabbed particle's target.
+    pub cursor: [f64; 3],
+    /// An error is on the screen (a scene that did not load, a blow-up).
+    pub error: bool,
+    /// The demo shown, if the scene is a demo.
+    pub demo: Option<usize>,
+    /// A demo the page asked for, taken by the next frame.
+    pub request: Option<usize>,
+}
+
+static PROBE: Mutex<Probe> = Mutex::new(Probe {
+    frames: 0,
+    fps: 0.0,
+    time: 0.0,
+    positions: Vec::new(),
+    screen: Vec::new(),
+    grabbed: None,
+    cursor: [0.0; 3],
+    error: false,
+    demo: None,
+    request: None,
+});
+
+/// The shared probe (a poisoned lock is still readable: the data is plain).
+pub fn lock() -> MutexGuard<'static, Probe> {
+    PROBE
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+fn axis<T: Copy>(values: Option<&[T]>, a: u32, missing: T) -> T {
+    values
+        .and_then(|v| v.get(a as usize).copied())
+        .unwrap_or(missing)
+}
+
+/// Frames drawn so far.
+#[no_mangle]
+pub extern "C" fn sprung_frames() -> u32 {
+    lock().frames
+}
+
+/// Frames per second, smoothed over the last second or so.
+#[no_mangle]
+pub extern "C" fn sprung_fps() -> f32 {
+    lock().fps
+}
+
+/// Simulated time (s).
+#[no_mangle]
+pub extern "C" fn sprung_time() -> f64 {
+    lock().time
+}
+
+/// Number of particles.
+#[no_mangle]
+pub extern "C" fn sprung_particle_count() -> u32 {
+    lock().positions.len() as u32
+}
+
+/// Coordinate `a` (0 x, 1 y, 2 z) of particle `i` (m); NaN if out of range.
+#[no_mangle]
+pub extern "C" fn sprung_particle(i: u32, a: u32) -> f64 {
+    let probe = lock();
+    axis(probe.positions.get(i as usize).map(|p| &p[..]), a, f64::NAN)
+}
+
+/// Screen coordinate `a` (0 x, 1 y; pixels from the top left) of particle
+/// `i`; NaN if out of range or behind the camera.
+#[no_mangle]
+pub extern "C" fn sprung_particle_screen(i: u32, a: u32) -> f32 {
+    let probe = lock();
+    axis(probe.screen.get(i as usize).map(|p| &p[..]), a, f32::NAN)
+}
+
+/// The grabbed particle, or -1.
+#[no_mangle]
+pub extern "C" fn sprung_grabbed() -> i32 {
+    lock().grabbed.map_or(-1, |i| i as i32)
+}
+
+/// Coordinate `a` of the cursor's point in the world (m).
+#[no_mangle]
+pub extern "C" fn sprung_cursor(a: u32) -> f64 {
+    let probe = lock();
+    axis(Some(&probe.cursor[..]), a, f64::NAN)
+}
+
+/// 1 if an error is shown (a scene that could not be loaded, a blow-up).
+#[no_mangle]
+pub extern "C" fn sprung_error() -> i32 {
+    i32::from(lock().error)
+}
+
+/// Number of built-in demos.
+#[no_mangle]
+pub extern "C" fn sprung_demo_count() -> u32 {
+    DEMOS.len() as u32
+}
+
+/// The demo shown, or -1 (a scene file).
+#[no_mangle]
+pub extern "C" fn sprung_demo() -> i32 {
+    lock().demo.map_or(-1, |i| i as i32)
+}
+
+/// Address of demo `i`'s name (UTF-8, [`sprung_demo_name_len`] bytes) in
+/// the module's memory; 0 if out of range.
+#[no_mangle]
+pub extern "C" fn sprung_demo_name_ptr(i: u32) -> usize {
+    DEMOS
+        .get(i as usize)
+        .map_or(0, |d| d.name.as_ptr() as usize)
+}
+
+/// Length in bytes of demo `i`'s name; 0 if out of range.
+#[no_mangle]
+pub extern "C" fn sprung_demo_name_len(i: u32) -> u32 {
+    DEMOS.get(i as usize).map_or(0, |d| d.name.len() as u32)
+}
+
+/// Ask for demo `i` to be shown from the next frame; 1 if it exists.
+#[no_mangle]
+pub extern "C" fn sprung_select_demo(i: u32) -> i32 {
+    if (i as usize) < DEMOS.len() {
+        lock().request = Some(i as usize);
+        1
+    } else {
+        0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exports_read_the_probe() {
+        {
+            let mut probe = lock();
+            probe.positions = vec![[1.0, 2.0, 3.0]];
+            probe.grabbed = Some(0);
+        }
+        assert_eq!(sprung_particle(0, 1), 2.0);
+        assert!(sprung_particle(5, 0).is_nan());
+        assert!(sprung_particle(0, 7).is_nan());
+        assert_eq!(sprung_grabbed(), 0);
+        assert_eq!(sprung_select_demo(1), 1);
+        assert_eq!(sprung_select_demo(999), 0);
+        assert_eq!(lock().request.take(), Some(1));
+        assert_eq!(sprung_demo_name_len(0), DEMOS[0].name.len() as u32);
+    }
+}

@@ -1,0 +1,310 @@
+//! The running simulation: the world, the user's settings (time step,
+//! integrator, stiffness, damping, gas and wind) and real-time stepping on a
+//! budget of wall-clock time per frame.
+
+use sprung::{IntegratorKind, Real, Vec3, World};
+use sprung_io::Scene;
+
+/// Longest frame the simulation catches up on (s): after a stall (a window
+/// drag, a hidden tab) it goes on instead of racing to catch up.
+const MAX_FRAME: Real = 0.1;
+
+/// The user's settings, kept across a reset.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// Time step (s).
+    pub dt: Real,
+    /// The integrator.
+    pub integrator: IntegratorKind,
+    /// Factor on every spring's stiffness from the scene.
+    pub stiffness_scale: Real,
+    /// Factor on every spring's damping from the scene; where the scene has
+    /// no damping at all, the damping itself (N·s/m).
+    pub damping: Real,
+    /// Factor on every gas's nRT from the scene.
+    pub nrt_scale: Real,
+    /// Wind speed (m/s), along the scene's wind direction.
+    pub wind_speed: Real,
+    /// Simulated seconds per wall-clock second wanted (1: real time).
+    pub speed: Real,
+}
+
+/// A gas's nRT (J) and its schedule's keyframes `(t, nRT)` in the scene.
+type GasBase = Option<(Real, Vec<(Real, Real)>)>;
+
+/// The scene's own values that the settings scale.
+#[derive(Debug, Clone)]
+struct Base {
+    stiffness: Vec<Real>,
+    damping: Vec<Real>,
+    nrt: Vec<GasBase>,
+    wind: Option<Vec3>,
+}
+
+/// A world being simulated, with its settings and timing.
+#[derive(Debug)]
+pub struct Sim {
+    /// The world.
+    pub world: World,
+    /// The current settings.
+    pub settings: Settings,
+    /// The scene's own settings (for "reset settings" and the sliders' ranges).
+    pub defaults: Settings,
+    /// Not stepping.
+    pub paused: bool,
+    /// Why the run stopped (a blow-up), shown until a reset.
+    pub failure: Option<String>,
+    /// Simulated time over the time wanted (wall-clock time × speed), over
+    /// the last frames: 1 keeps up, less is slow motion.
+    pub rate: Real,
+    /// Steps taken in the last frame.
+    pub steps_last_frame: u32,
+    /// The last frame ran out of its wall-clock budget.
+    pub behind: bool,
+    base: Base,
+    debt: Real,
+    simulated: Real,
+    wanted: Real,
+}
+
+impl Sim {
+    /// Start `scene` with its own settings.
+    pub fn new(scene: Scene) -> Self {
+        let base = Base::of(&scene.world);
+        let defaults = Settings {
+            dt: scene.dt,
+            integrator: scene.world.integrator(),
+            stiffness_scale: 1.0,
+            damping: if base.damping.iter().any(|&c| c > 0.0) {
+                1.0
+            } else {
+                0.0
+            },
+            nrt_scale: 1.0,
+            wind_speed: base.wind.map_or(0.0, Vec3::length),
+            speed: 1.0,
+        };
+        Sim {
+            world: scene.world,
+            settings: defaults,
+            defaults,
+            paused: false,
+            failure: None,
+            rate: 1.0,
+            steps_last_frame: 0,
+            behind: false,
+            base,
+            debt: 0.0,
+            simulated: 0.0,
+            wanted: 0.0,
+        }
+    }
+
+    /// Start `scene` again with `settings` (a reset keeps the user's).
+    pub fn with_settings(scene: Scene, settings: Settings) -> Self {
+        let mut sim = Sim::new(scene);
+        sim.settings = settings;
+        sim.apply();
+        sim
+    }
+
+    /// The scene has springs with damping, so the damping setting is a factor.
+    pub fn damping_is_factor(&self) -> bool {
+        self.base.damping.iter().any(|&c| c > 0.0)
+    }
+
+    /// The scene has a wind.
+    pub fn has_wind(&self) -> bool {
+        self.base.wind.is_some()
+    }
+
+    /// The scene has a gas.
+    pub fn has_gas(&self) -> bool {
+        self.base.nrt.iter().any(Option::is_some)
+    }
+
+    /// Write the settings into the world.
+    pub fn apply(&mut self) {
+        let s = self.settings;
+        self.world.set_integrator(s.integrator);
+        let factor = self.damping_is_factor();
+        let springs = &mut self.world.springs;
+        for (k, &k0) in springs.stiffness.iter_mut().zip(&self.base.stiffness) {
+            *k = k0 * s.stiffness_scale;
+        }
+        for (c, &c0) in springs.damping.iter_mut().zip(&self.base.damping) {
+            *c = if factor { c0 * s.damping } else { s.damping };
+        }
+        for (body, base) in self.world.bodies.iter_mut().zip(&self.base.nrt) {
+            if let (Some(gas), Some((nrt, keyframes))) = (body.gas.as_mut(), base) {
+                gas.nrt = nrt * s.nrt_scale;
+                for (k, k0) in gas.keyframes.iter_mut().zip(keyframes) {
+                    k.1 = k0.1 * s.nrt_scale;
+                }
+            }
+        }
+        if let (Some(wind), Some(w0)) = (self.world.wind.as_mut(), self.base.wind) {
+            wind.field.velocity = w0.normalize_or_zero() * s.wind_speed;
+        }
+    }
+
+    /// Advance by one frame of `wall` seconds, taking steps until the
+    /// simulated time catches up (times `speed`) or `budget` seconds of
+    /// wall-clock time (read with `clock`) are spent; what is left over is
+    /// dropped, so the run goes on in slow motion.
+    pub fn advance(&mut self, wall: Real, budget: Real, clock: &mut dyn FnMut() -> Real) {
+        self.steps_last_frame = 0;
+        self.behind = false;
+        if self.paused || self.failure.is_some() || wall.is_nan() || wall <= 0.0 {
+            return;
+        }
+        let dt = self.settings.dt;
+        let wanted = wall.min(MAX_FRAME) * self.settings.speed;
+        self.debt += wanted;
+        let start = clock();
+        let mut simulated = 0.0;
+        while self.debt >= dt {
+            if !self.step_once() {
+                break;
+            }
+            self.debt -= dt;
+            simulated += dt;
+            self.steps_last_frame += 1;
+            if clock() - start > budget {
+                self.behind = self.debt >= dt;
+                self.debt = 0.0;
+                break;
+            }
+        }
+        // Smoothed over about 20 frames, as sums, so that a time step longer
+        // than a frame (a step every few frames) still reads as real time.
+        self.simulated += 0.05 * (simulated - self.simulated);
+        self.wanted += 0.05 * (wanted - self.wanted);
+        self.rate = (self.simulated / self.wanted).min(1.0);
+    }
+
+    /// One step of the current `dt`; false (and `failure` set) on a blow-up.
+    pub fn step_once(&mut self) -> bool {
+        match self.world.step(self.settings.dt) {
+            Ok(()) => true,
+            Err(e) => {
+                self.failure = Some(e.to_string());
+                false
+            }
+        }
+    }
+
+    /// Wall-clock time the simulation still owes (s); for the collider path.
+    pub fn pending(&self, wall: Real) -> Real {
+        if self.paused || self.failure.is_some() {
+            0.0
+        } else {
+            self.debt + wall.min(MAX_FRAME) * self.settings.speed
+        }
+    }
+}
+
+impl Base {
+    fn of(world: &World) -> Self {
+        Base {
+            stiffness: world.springs.stiffness.clone(),
+            damping: world.springs.damping.clone(),
+            nrt: world
+                .bodies
+                .iter()
+                .map(|b| b.gas.as_ref().map(|g| (g.nrt, g.keyframes.clone())))
+                .collect(),
+            wind: world.wind.as_ref().map(|w| w.field.velocity),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::demos::Source;
+
+    fn sim(name: &str) -> Sim {
+        let index = crate::demos::find(name).unwrap_or(0);
+        match Source::Demo(index).load() {
+            Ok(scene) => Sim::new(scene),
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    #[test]
+    fn a_fast_machine_keeps_real_time() {
+        let mut sim = sim("rope");
+        let mut now = 0.0;
+        let mut clock = || {
+            now += 1e-6;
+            now
+        };
+        for _ in 0..10 {
+            sim.advance(1.0 / 60.0, 0.01, &mut clock);
+        }
+        // 10 frames of 1/60 s at dt = 1e-3: 166 steps, give or take the remainder.
+        assert!((sim.world.time() - 10.0 / 60.0).abs() <= 1e-3 + 1e-12);
+        assert!(!sim.behind);
+    }
+
+    #[test]
+    fn a_slow_machine_goes_into_slow_motion() {
+        let mut sim = sim("rope");
+        let mut now = 0.0;
+        // Every clock read costs a millisecond: the 10 ms budget allows ~10 steps.
+        let mut clock = || {
+            now += 1e-3;
+            now
+        };
+        sim.advance(1.0 / 60.0, 0.01, &mut clock);
+        assert!(sim.behind);
+        assert!(sim.steps_last_frame < 16, "{}", sim.steps_last_frame);
+        assert!(sim.world.time() < 1.0 / 60.0);
+    }
+
+    #[test]
+    fn settings_scale_the_scene_and_survive_a_reset() {
+        let mut sim = sim("flag");
+        let k0 = sim.world.springs.stiffness[0];
+        sim.settings.stiffness_scale = 2.0;
+        sim.settings.wind_speed = 4.0;
+        sim.apply();
+        assert_eq!(sim.world.springs.stiffness[0], 2.0 * k0);
+        let wind = sim.world.wind.as_ref().map(|w| w.field.velocity);
+        assert_eq!(wind, Some(Vec3::new(4.0, 0.0, 0.0)));
+        let scene = Source::Demo(crate::demos::find("flag").unwrap_or(0)).load();
+        let reset = Sim::with_settings(scene.unwrap_or_else(|e| panic!("{e}")), sim.settings);
+        assert_eq!(reset.world.springs.stiffness[0], 2.0 * k0);
+    }
+
+    #[test]
+    fn gas_scale_and_absolute_damping() {
+        let mut sim = sim("ball3d");
+        sim.settings.nrt_scale = 0.5;
+        sim.apply();
+        assert_eq!(sim.world.bodies[0].gas.as_ref().map(|g| g.nrt), Some(250.0));
+        let mut chain = self::sim("chain");
+        assert!(!chain.damping_is_factor());
+        chain.settings.damping = 0.3;
+        chain.apply();
+        assert!(chain.world.springs.damping.iter().all(|&c| c == 0.3));
+    }
+
+    #[test]
+    fn a_blow_up_stops_the_run_with_its_message() {
+        let mut sim = sim("oscillator");
+        sim.settings.dt = 1.0; // far above the stable step of 1/π s
+        sim.settings.integrator = IntegratorKind::Euler;
+        sim.apply();
+        let mut now = 0.0;
+        for _ in 0..200 {
+            sim.advance(0.1, 1.0, &mut || {
+                now += 1e-6;
+                now
+            });
+        }
+        let failure = sim.failure.clone().unwrap_or_default();
+        assert!(failure.contains("blew up"), "{failure}");
+    }
+}

@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# The test command of sprung (the README's, and what .ci/run calls): set up
+# what the tests need, build the web viewer, then run every test of the
+# workspace, the viewer's tests in a real browser and a real X server
+# included.
+#
+#   scripts/test.sh                 everything
+#   scripts/test.sh -- NAME         extra arguments go to `cargo test --workspace`
+#
+# Installs only what is missing:
+#   - Debian packages (apt-get, as root or through sudo): chromium (the
+#     browser test), xvfb (an X server without a screen, for the native
+#     window) and the Mesa libraries that give it OpenGL in software
+#     (libgl1, libglx-mesa0, libgl1-mesa-dri; libx11-6, libxi6 and
+#     libxkbcommon0 are loaded by the windowing library at run time);
+#   - the Rust target wasm32-unknown-unknown (rustup);
+#   - Playwright (`npm ci` in crates/sprung-viewer/web-tests, from its
+#     package-lock.json; it drives the Debian Chromium, it downloads no
+#     browser).
+# Node.js 20 or newer must be on the PATH (it is on the project's machines).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(chromium xvfb libgl1 libglx-mesa0 libgl1-mesa-dri libx11-6 libxi6 libxkbcommon0)
+missing=()
+for package in "${packages[@]}"; do
+  if ! dpkg-query -W -f '${Status}' "$package" 2>/dev/null | grep -q "ok installed"; then
+    missing+=("$package")
+  fi
+done
+if ((${#missing[@]})); then
+  echo "== apt-get install ${missing[*]}"
+  sudo=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "scripts/test.sh: installing ${missing[*]} needs root or sudo" >&2; exit 1; }
+    sudo=(sudo)
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo[@]}" apt-get update -qq
+  "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if ! node -e 'process.exit(Number(process.versions.node.split(".")[0]) >= 20 ? 0 : 1)' 2>/dev/null; then
+  echo "scripts/test.sh: the browser test needs Node.js 20 or newer (node on the PATH)" >&2
+  exit 1
+fi
+echo "== npm ci (crates/sprung-viewer/web-tests)"
+(cd crates/sprung-viewer/web-tests && npm ci --no-audit --no-fund --loglevel=error)
+
+scripts/build-web.sh
+
+echo "== cargo test --workspace"
+cargo test --workspace "$@"
