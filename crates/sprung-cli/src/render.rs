@@ -7,10 +7,10 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use sprung::{IntegratorKind, Real, Vec3};
-use sprung_io::load_scene;
+use sprung_io::{load_scene, SceneCamera};
 use sprung_view::render::{
     read_run, record, render_to_dir, steps_between_pictures, RenderError, RenderSettings, Rendered,
-    Snapshot, StrainColours, DEFAULT_PICTURE_RATE,
+    Snapshot, StrainColours, DEFAULT_FOV_DEGREES, DEFAULT_PICTURE_RATE,
 };
 
 use crate::run::CliError;
@@ -64,9 +64,10 @@ pub struct RenderArgs {
     /// Point looked at x,y,z (m); default: the centre of the bodies.
     #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     target: Option<Vec3>,
-    /// Vertical field of view of the perspective camera (degrees).
-    #[arg(long, default_value_t = 40.0, allow_hyphen_values = true)]
-    fov: f64,
+    /// Vertical field of view of the perspective camera (degrees; default:
+    /// the scene's `[camera]` fov, else 40).
+    #[arg(long, allow_hyphen_values = true)]
+    fov: Option<f64>,
     /// Override a scene's integrator.
     #[arg(long)]
     integrator: Option<IntegratorKind>,
@@ -88,7 +89,7 @@ fn parse_point(text: &str) -> Result<Vec3, String> {
 
 /// Run `sprung render`.
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
-    let settings = settings(args)?;
+    let mut settings = settings(args)?;
     let source = &args.source;
     if !source.exists() {
         return Err(CliError::Input(format!(
@@ -112,7 +113,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         let out = args.out.clone().unwrap_or_else(|| source.join("render"));
         (snapshots, out, None)
     } else {
-        let (snapshots, blow_up) = run_scene(source, args)?;
+        let (snapshots, blow_up, camera) = run_scene(source, args)?;
+        // The scene's [camera] where the command line says nothing.
+        settings.camera.eye = settings.camera.eye.or(camera.eye);
+        settings.camera.target = settings.camera.target.or(camera.target);
+        if args.fov.is_none() {
+            settings.camera.fov_degrees = camera.fov.unwrap_or(DEFAULT_FOV_DEGREES);
+        }
         let stem = source.file_stem().unwrap_or_default().to_string_lossy();
         let out = args
             .out
@@ -155,10 +162,12 @@ fn settings(args: &RenderArgs) -> Result<RenderSettings, CliError> {
         }
         settings.fps = Some(fps);
     }
-    if !(args.fov.is_finite() && args.fov > 0.0 && args.fov < 180.0) {
+    if let Some(fov) = args
+        .fov
+        .filter(|f| !(f.is_finite() && *f > 0.0 && *f < 180.0))
+    {
         return Err(CliError::Input(format!(
-            "--fov {}: must be between 0 and 180 degrees",
-            args.fov
+            "--fov {fov}: must be between 0 and 180 degrees"
         )));
     }
     if let (Some(eye), Some(target)) = (args.eye, args.target) {
@@ -170,16 +179,16 @@ fn settings(args: &RenderArgs) -> Result<RenderSettings, CliError> {
     }
     settings.camera.eye = args.eye;
     settings.camera.target = args.target;
-    settings.camera.fov_degrees = args.fov;
+    settings.camera.fov_degrees = args.fov.unwrap_or(DEFAULT_FOV_DEGREES);
     Ok(settings)
 }
 
-/// Load and run the scene in memory; the snapshots, and the blow-up that
-/// stopped it early, if any.
+/// Load and run the scene in memory; the snapshots, the blow-up that
+/// stopped it early, if any, and the scene's camera.
 fn run_scene(
     path: &Path,
     args: &RenderArgs,
-) -> Result<(Vec<Snapshot>, Option<sprung::StepError>), CliError> {
+) -> Result<(Vec<Snapshot>, Option<sprung::StepError>, SceneCamera), CliError> {
     let mut scene = load_scene(path)?;
     if let Some(kind) = args.integrator {
         scene.world.set_integrator(kind);
@@ -201,7 +210,7 @@ fn run_scene(
         None => steps_between_pictures(scene.dt, DEFAULT_PICTURE_RATE),
     };
     let recording = record(&mut scene.world, scene.dt, steps, every);
-    Ok((recording.snapshots, recording.blow_up))
+    Ok((recording.snapshots, recording.blow_up, scene.camera))
 }
 
 fn render_error(error: RenderError) -> CliError {

@@ -311,3 +311,45 @@ stiffness = 1000.0
     assert!(!pictures(&dir.path().join("o")).is_empty());
     assert_no_partial_files(dir.path());
 }
+
+#[test]
+fn the_scene_camera_is_used_and_the_command_line_overrides_it() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let camera = "\n[camera]\neye = [0.5, -0.5, 4.0]\ntarget = [0.5, -0.8, 0.0]\nfov = 30.0\n";
+    write(dir.path(), "plain.toml", SCENE);
+    write(dir.path(), "framed.toml", &format!("{SCENE}{camera}"));
+    let render = |scene: &str, out: &str, extra: &[&str]| {
+        let mut args = vec![
+            "render", scene, "--steps", "1", "--every", "1", "--width", "160", "--height", "120",
+            "--out", out, "--quiet",
+        ];
+        args.extend_from_slice(extra);
+        let output = sprung(&args, dir.path());
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        std::fs::read(dir.path().join(out).join("frame_000001.png")).expect("picture")
+    };
+    let automatic = render("plain.toml", "a", &[]);
+    let from_scene = render("framed.toml", "b", &[]);
+    let same_by_hand = render(
+        "plain.toml",
+        "c",
+        &[
+            "--eye",
+            "0.5,-0.5,4.0",
+            "--target",
+            "0.5,-0.8,0.0",
+            "--fov",
+            "30",
+        ],
+    );
+    let overridden = render("framed.toml", "d", &["--eye", "3.0,0.0,3.0"]);
+    assert_ne!(
+        automatic, from_scene,
+        "the scene's camera changes the picture"
+    );
+    assert_eq!(
+        from_scene, same_by_hand,
+        "the scene's camera is the one given by hand"
+    );
+    assert_ne!(overridden, from_scene, "--eye overrides the scene's eye");
+}

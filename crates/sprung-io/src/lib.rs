@@ -10,4 +10,6 @@ pub mod export;
 pub mod mesh;
 pub mod scene;
 
-pub use scene::{load_scene, parse_scene, parse_scene_with, Disk, FileSource, Scene, SceneError};
+pub use scene::{
+    load_scene, parse_scene, parse_scene_with, Disk, FileSource, Scene, SceneCamera, SceneError,
+};

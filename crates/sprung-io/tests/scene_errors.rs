@@ -373,3 +373,28 @@ fn a_good_wind_table_adds_one_force() {
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(scene.world.wind.is_some());
 }
+
+#[test]
+fn camera_table() {
+    // GOOD has 9 lines: `[camera]` is line 10.
+    let camera = |body: &str| format!("{GOOD}[camera]\n{body}\n");
+    assert_error(
+        &camera("fov = 200.0"),
+        11,
+        &["camera:", "`fov` = 200", "between 0 and 180"],
+    );
+    assert_error(
+        &camera("eye = [1.0, 2.0, 3.0]\ntarget = [1.0, 2.0, 3.0]"),
+        12,
+        &["same point"],
+    );
+    assert_error(&camera("zoom = 2.0"), 11, &["unknown field `zoom`"]);
+    let scene = parse_scene(
+        &camera("eye = [0.0, 1.0, 5.0]\nfov = 30.0"),
+        Path::new("c.toml"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.camera.eye, Some(sprung::Vec3::new(0.0, 1.0, 5.0)));
+    assert_eq!(scene.camera.target, None);
+    assert_eq!(scene.camera.fov, Some(30.0));
+}

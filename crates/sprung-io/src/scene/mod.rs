@@ -2,8 +2,8 @@
 //!
 //! A scene has `[sim]` (time step `dt`, `integrator`, `gravity`,
 //! `duration` or `steps`, `air_drag`, `every`), any number of `[[body]]`
-//! tables (see the README for the keys), `[[collider]]` tables and an
-//! optional `[wind]` table. Every
+//! tables (see the README for the keys), `[[collider]]` tables, and
+//! optional `[wind]` and `[camera]` tables. Every
 //! unknown key is an error naming it; every error names the file and the
 //! line. Nothing is half-built: a scene either loads whole or not at all.
 
@@ -37,6 +37,20 @@ pub struct Scene {
     pub every: Option<u64>,
     /// The file it came from (relative paths inside it are relative to its folder).
     pub path: PathBuf,
+    /// Where pictures are taken from, if the scene says (`[camera]`).
+    pub camera: SceneCamera,
+}
+
+/// The `[camera]` table: each part `None` where the scene leaves it to the
+/// picture maker (framing the bodies automatically).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SceneCamera {
+    /// Where the camera stands (m).
+    pub eye: Option<Vec3>,
+    /// The point looked at (m).
+    pub target: Option<Vec3>,
+    /// Vertical field of view (degrees, in (0, 180)).
+    pub fov: Option<Real>,
 }
 
 /// Read and build the scene file at `path`.
@@ -130,7 +144,13 @@ pub fn parse_scene_with(
         );
         return Err(at(body.span(), "wind_scale", message));
     }
+    let camera = match &file.camera {
+        None => SceneCamera::default(),
+        Some(table) => camera(table.get_ref())
+            .map_err(|(key, m)| at(table.span(), key, format!("camera: {m}")))?,
+    };
     Ok(Scene {
+        camera,
         world,
         dt,
         steps,
@@ -265,6 +285,34 @@ fn collider(table: &ColliderTable) -> Result<Collider, KeyError> {
         collider = collider.with_path(path);
     }
     Ok(collider)
+}
+
+fn camera(table: &tables::CameraTable) -> Result<SceneCamera, KeyError> {
+    let eye = table.eye.as_deref().map(|v| vector("eye", v)).transpose()?;
+    let target = table
+        .target
+        .as_deref()
+        .map(|v| vector("target", v))
+        .transpose()?;
+    if eye.is_some() && eye == target {
+        return Err((
+            "target",
+            "`eye` and `target` are the same point: the camera needs a direction".into(),
+        ));
+    }
+    if let Some(fov) = table.fov {
+        if !(fov.is_finite() && fov > 0.0 && fov < 180.0) {
+            return Err((
+                "fov",
+                format!("`fov` = {fov}: must be between 0 and 180 degrees"),
+            ));
+        }
+    }
+    Ok(SceneCamera {
+        eye,
+        target,
+        fov: table.fov,
+    })
 }
 
 /// `value` if it is positive and finite, else an error for `key`.

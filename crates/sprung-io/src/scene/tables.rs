@@ -16,6 +16,20 @@ pub(crate) struct SceneFile {
     pub collider: Vec<Spanned<ColliderTable>>,
     #[serde(default)]
     pub wind: Option<Spanned<WindTable>>,
+    #[serde(default)]
+    pub camera: Option<Spanned<CameraTable>>,
+}
+
+/// `[camera]`: where pictures of the scene are taken from.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct CameraTable {
+    #[serde(default)]
+    pub eye: Option<Vec<f64>>,
+    #[serde(default)]
+    pub target: Option<Vec<f64>>,
+    #[serde(default)]
+    pub fov: Option<f64>,
 }
 
 /// `[wind]`: wind on every surface.
