@@ -129,11 +129,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     let rendered = render_to_dir(&snapshots, &out, &settings).map_err(render_error)?;
     if let Some(error) = blow_up {
-        return Err(CliError::Input(format!(
-            "{error}\n(the {} pictures up to the last good step are in {})",
+        let kept = format!(
+            "the {} pictures up to the last good step are in {}",
             rendered.pictures.len(),
             out.display()
-        )));
+        );
+        return Err(CliError::BlowUp(error, kept));
     }
     if !args.quiet {
         report(source, &out, &rendered, &settings);

@@ -2,7 +2,7 @@
 //! on a blow-up with the rows recorded so far (all finite).
 
 use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -24,8 +24,9 @@ pub enum CliError {
     Scene(SceneError),
     /// A file that could not be written.
     Io(String),
-    /// The simulation blew up; the diagnostics up to it were written.
-    BlowUp(StepError, PathBuf),
+    /// The simulation blew up; what was recorded up to it was kept: the
+    /// second field is the sentence that says what and where.
+    BlowUp(StepError, String),
 }
 
 impl CliError {
@@ -43,11 +44,7 @@ impl fmt::Display for CliError {
         match self {
             CliError::Input(m) | CliError::Io(m) => f.write_str(m),
             CliError::Scene(e) => write!(f, "{e}"),
-            CliError::BlowUp(e, out) => write!(
-                f,
-                "{e}\n(diagnostics up to the last good step are in {})",
-                out.join("diagnostics.csv").display()
-            ),
+            CliError::BlowUp(e, kept) => write!(f, "{e}\n({kept})"),
         }
     }
 }
@@ -115,7 +112,11 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         if let Err(error) = scene.world.step(scene.dt) {
             progress.abandon();
             diagnostics.finish().map_err(io)?;
-            return Err(CliError::BlowUp(error, out.to_path_buf()));
+            let kept = format!(
+                "diagnostics up to the last good step are in {}",
+                out.join("diagnostics.csv").display()
+            );
+            return Err(CliError::BlowUp(error, kept));
         }
         if step % every == 0 || step == steps {
             record(&scene.world, &mut diagnostics)?;

@@ -303,7 +303,11 @@ stiffness = 1000.0
         dir.path(),
     );
     let stderr = text(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert_eq!(
+        output.status.code(),
+        Some(3),
+        "a blow-up exits with 3: {stderr}"
+    );
     assert!(
         stderr.contains("pictures up to the last good step are in o"),
         "{stderr}"
