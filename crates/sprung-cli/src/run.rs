@@ -5,7 +5,7 @@ use std::fmt;
 use std::path::Path;
 use std::time::Duration;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
 use sprung::{Real, StepError};
 use sprung_io::export::{self, Diagnostics};
 use sprung_io::{load_scene, Scene, SceneError};
@@ -186,9 +186,12 @@ fn progress_bar(steps: u64, quiet: bool) -> ProgressBar {
     }
     let bar = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::stderr());
     if let Ok(style) = ProgressStyle::with_template(
-        "{bar:40.cyan/blue} {pos}/{len} steps  {per_sec}  {elapsed} elapsed, {eta} left",
+        "{bar:40.cyan/blue} {pos}/{len} steps  {rate}  {elapsed} elapsed, {eta} left",
     ) {
-        bar.set_style(style);
+        let rate = |state: &ProgressState, out: &mut dyn std::fmt::Write| {
+            let _ = write!(out, "{:.0} steps/s", state.per_sec());
+        };
+        bar.set_style(style.with_key("rate", rate));
     }
     bar.enable_steady_tick(Duration::from_millis(200));
     bar
