@@ -202,7 +202,7 @@ fn run_scene(
                 "--time {t}: must be a positive, finite time (s)"
             )))
         }
-        (None, Some(t)) => ((t / scene.dt).round() as u64).max(1),
+        (None, Some(t)) => crate::run::checked_steps(t / scene.dt, "--time")?,
         (None, None) => scene.steps,
     };
     let every = match args.every {

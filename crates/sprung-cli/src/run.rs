@@ -24,6 +24,9 @@ pub enum CliError {
     Scene(SceneError),
     /// A file that could not be written.
     Io(String),
+    /// A program we started (the viewer) failed with this exit status;
+    /// `sprung` exits with the same status.
+    Child(i32, String),
     /// The simulation blew up; what was recorded up to it was kept: the
     /// second field is the sentence that says what and where.
     BlowUp(StepError, String),
@@ -34,6 +37,7 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::BlowUp(..) => 3,
+            CliError::Child(code, _) => u8::try_from(*code).unwrap_or(1),
             _ => 1,
         }
     }
@@ -42,7 +46,7 @@ impl CliError {
 impl fmt::Display for CliError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            CliError::Input(m) | CliError::Io(m) => f.write_str(m),
+            CliError::Input(m) | CliError::Io(m) | CliError::Child(_, m) => f.write_str(m),
             CliError::Scene(e) => write!(f, "{e}"),
             CliError::BlowUp(e, kept) => write!(f, "{e}\n({kept})"),
         }
@@ -82,6 +86,16 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         .unwrap_or_else(|| ((1.0 / DEFAULT_RECORD_RATE / scene.dt).round() as u64).max(1));
     if every == 0 {
         return Err(CliError::Input("--every must be at least 1".into()));
+    }
+    if let Some((i, &p)) = options
+        .probe
+        .iter()
+        .enumerate()
+        .find(|&(i, p)| options.probe[..i].contains(p))
+    {
+        return Err(CliError::Input(format!(
+            "--probe: particle {p} is named twice (entry {i}); each probe gives its own columns"
+        )));
     }
     let particles = scene.world.particles.len();
     if let Some(&bad) = options.probe.iter().find(|&&p| p >= particles) {
@@ -146,6 +160,18 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
     Ok(())
 }
 
+/// `steps` (a count from a time divided by a step), refused above
+/// [`sprung_io::scene::MAX_STEPS`].
+pub(crate) fn checked_steps(steps: f64, what: &str) -> Result<u64, CliError> {
+    if steps > sprung_io::scene::MAX_STEPS as f64 {
+        return Err(CliError::Input(format!(
+            "{what}: {steps:.3e} steps is more than the {:.0e} a run may take",
+            sprung_io::scene::MAX_STEPS as f64
+        )));
+    }
+    Ok((steps.round() as u64).max(1))
+}
+
 fn planned_steps(scene: &Scene, options: &RunOptions) -> Result<u64, CliError> {
     match (options.steps, options.time) {
         (Some(0), _) => Err(CliError::Input("--steps must be at least 1".into())),
@@ -153,7 +179,7 @@ fn planned_steps(scene: &Scene, options: &RunOptions) -> Result<u64, CliError> {
         (None, Some(t)) if !(t.is_finite() && t > 0.0) => Err(CliError::Input(format!(
             "--time {t}: must be a positive, finite time (s)"
         ))),
-        (None, Some(t)) => Ok(((t / scene.dt).round() as u64).max(1)),
+        (None, Some(t)) => checked_steps(t / scene.dt, "--time"),
         (None, None) => Ok(scene.steps),
     }
 }

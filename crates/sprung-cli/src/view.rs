@@ -71,10 +71,13 @@ pub fn run(args: &ViewArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::Input(format!("cannot start {}: {e}", viewer.display())))?;
     match status.code() {
         Some(0) => Ok(()),
-        Some(code) => Err(CliError::Input(format!(
-            "the viewer ({}) exited with status {code}",
-            viewer.display()
-        ))),
+        Some(code) => Err(CliError::Child(
+            code,
+            format!(
+                "the viewer ({}) exited with status {code}",
+                viewer.display()
+            ),
+        )),
         None => Err(CliError::Input(format!(
             "the viewer ({}) was stopped by a signal",
             viewer.display()

@@ -355,3 +355,47 @@ fn oscillator_demo_compares_integrators() {
         "Verlet keeps its energy: {start} -> {end}"
     );
 }
+
+#[test]
+fn repeated_probes_and_absurd_run_lengths_are_refused() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "p.toml", PENDULUM);
+    let output = sprung(
+        &["run", "p.toml", "--out", "o", "--probe", "1,1"],
+        dir.path(),
+    );
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        text(&output.stderr).contains("particle 1 is named twice"),
+        "{}",
+        text(&output.stderr)
+    );
+    let output = sprung(
+        &["run", "p.toml", "--out", "o", "--time", "1e300"],
+        dir.path(),
+    );
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        text(&output.stderr).contains("more than the 1e12"),
+        "{}",
+        text(&output.stderr)
+    );
+    assert!(!dir.path().join("o").exists());
+}
+
+#[test]
+fn demos_with_meshes_run_from_any_folder_and_oscillator_refuses_one_integrator() {
+    // The tempdir is far from the source tree: the cube mesh comes from the
+    // binary itself.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let output = sprung(&["demo", "pillow", "--steps", "3", "--quiet"], dir.path());
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert!(dir.path().join("out/demo/pillow/diagnostics.csv").exists());
+    let output = sprung(&["demo", "oscillator", "--integrator", "rk4"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        text(&output.stderr).contains("runs every integrator"),
+        "{}",
+        text(&output.stderr)
+    );
+}

@@ -6,6 +6,7 @@
 //! and the outputs of a run ([`export`]: `diagnostics.csv`, VTK and OBJ
 //! frame sequences), each written completely or not at all.
 
+pub mod demos;
 pub mod export;
 pub mod mesh;
 pub mod scene;

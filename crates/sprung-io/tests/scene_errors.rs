@@ -398,3 +398,17 @@ fn camera_table() {
     assert_eq!(scene.camera.target, None);
     assert_eq!(scene.camera.fov, Some(30.0));
 }
+
+#[test]
+fn run_lengths_beyond_a_trillion_steps_are_refused() {
+    assert_error(
+        &variant("steps = 10", "steps = 10000000000000"),
+        3,
+        &["`steps` = 10000000000000", "at most"],
+    );
+    assert_error(
+        &variant("steps = 10", "duration = 1e300"),
+        3,
+        &["steps: at most"],
+    );
+}

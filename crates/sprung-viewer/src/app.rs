@@ -7,13 +7,14 @@ use macroquad::window::{clear_background, screen_dpi_scale, screen_height, scree
 use sprung::{IntegratorKind, Shape};
 
 use crate::camera::{to_f32, Bounds, View};
-use crate::demos::{Source, DEMOS};
+use crate::demos::Source;
 use crate::hand::Hand;
 use crate::render::{self, Look};
 use crate::render3d::Renderer3d;
 use crate::sim::{Settings, Sim};
 use crate::ui::Ui;
 use crate::{palette, probe, render2d};
+use sprung_io::demos::DEMOS;
 
 /// Width of the control panel (pixels).
 pub const PANEL_WIDTH: f32 = 300.0;

@@ -1,90 +1,15 @@
-//! The demo scenes of `scenes/`, compiled into the viewer (so that the web
-//! page needs no files beside it), and the meshes they use, served to the
-//! scene loader through a [`FileSource`].
+//! Where the viewer's scene comes from: one of the demos compiled into
+//! `sprung_io::demos` (with their meshes, so the web page needs no files
+//! beside it), or a scene file on the disk.
 
-use std::io;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use sprung_io::{parse_scene_with, Disk, FileSource, Scene};
+use sprung_io::demos::DEMOS;
+use sprung_io::{parse_scene_with, Disk, Scene};
 
-/// A built-in scene.
-#[derive(Debug, Clone, Copy)]
-pub struct Demo {
-    /// Short name (the file name without `.toml`).
-    pub name: &'static str,
-    /// The scene file's text.
-    pub text: &'static str,
-}
-
-macro_rules! demo {
-    ($name:literal) => {
-        Demo {
-            name: $name,
-            text: include_str!(concat!("../../../scenes/", $name, ".toml")),
-        }
-    };
-}
-
-/// Every demo, in the order of the scene picker.
-pub const DEMOS: &[Demo] = &[
-    demo!("ball2d"),
-    demo!("ball3d"),
-    demo!("flag"),
-    demo!("billow"),
-    demo!("cloth"),
-    demo!("pillow"),
-    demo!("balloon"),
-    demo!("horse"),
-    demo!("jelly"),
-    demo!("rope"),
-    demo!("rope_one_sided"),
-    demo!("chain"),
-    demo!("lattice2d"),
-    demo!("oscillator"),
-];
-
-/// The meshes the demos refer to, by file name (under `scenes/meshes/`).
-const MESHES: &[(&str, &[u8])] = &[
-    (
-        "cube.asc",
-        include_bytes!("../../../scenes/meshes/cube.asc"),
-    ),
-    (
-        "horse.obj",
-        include_bytes!("../../../scenes/meshes/horse.obj"),
-    ),
-];
-
-/// The index of the demo called `name`.
+/// The index of the demo called `name` in `sprung_io::demos::DEMOS`.
 pub fn find(name: &str) -> Option<usize> {
     DEMOS.iter().position(|d| d.name == name)
-}
-
-/// Mesh files compiled into the program: `meshes/NAME` of a demo scene.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Bundled;
-
-impl FileSource for Bundled {
-    fn read(&self, path: &Path) -> io::Result<Vec<u8>> {
-        let in_meshes = path
-            .parent()
-            .and_then(Path::file_name)
-            .is_some_and(|folder| folder == "meshes");
-        let name = path.file_name().and_then(|n| n.to_str());
-        MESHES
-            .iter()
-            .find(|(file, _)| in_meshes && Some(*file) == name)
-            .map(|(_, bytes)| bytes.to_vec())
-            .ok_or_else(|| {
-                io::Error::new(
-                    io::ErrorKind::NotFound,
-                    format!(
-                        "{} is not one of the meshes built into the viewer",
-                        path.display()
-                    ),
-                )
-            })
-    }
 }
 
 /// Where a scene comes from: a demo, or a file on the disk (native only).
@@ -123,8 +48,7 @@ impl Source {
                 let demo = DEMOS
                     .get(*index)
                     .ok_or_else(|| format!("no demo number {index}"))?;
-                let path = Path::new("scenes").join(format!("{}.toml", demo.name));
-                parse_scene_with(demo.text, &path, &Bundled).map_err(|e| e.to_string())
+                demo.load().map_err(|e| e.to_string())
             }
             Source::File(path) => {
                 let text = std::fs::read_to_string(path)
@@ -145,13 +69,6 @@ mod tests {
             let scene = Source::Demo(index).load();
             assert!(scene.is_ok(), "{}: {:?}", demo.name, scene.err());
         }
-    }
-
-    #[test]
-    fn bundled_refuses_other_files() {
-        assert!(Bundled.read(Path::new("scenes/meshes/none.obj")).is_err());
-        assert!(Bundled.read(Path::new("elsewhere/horse.obj")).is_err());
-        assert!(Bundled.read(Path::new("scenes/meshes/horse.obj")).is_ok());
     }
 
     #[test]

@@ -244,7 +244,7 @@ mod tests {
         let mut world = world("ball3d");
         world.settings.gravity = sprung::Vec3::ZERO;
         let mut hand = Hand::default();
-        let centre = to_f32(world.centroid(0));
+        let centre = to_f32(world.centroid(0).unwrap_or_default());
         hand.toggle_poke(&mut world, centre + Vec3::new(2.0, 0.0, 0.0), 0.3);
         assert!(hand.poke.is_some());
         // Without the collider, the ball's surface near x = +0.5 m would be inside.

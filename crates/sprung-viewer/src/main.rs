@@ -28,7 +28,8 @@ use macroquad::window::next_frame;
 
 use crate::app::App;
 use crate::args::Options;
-use crate::demos::{Source, DEMOS};
+use crate::demos::Source;
+use sprung_io::demos::DEMOS;
 
 fn main() {
     let options = match args::parse(std::env::args().skip(1)) {

@@ -6,10 +6,11 @@ use macroquad::math::Rect;
 use sprung::Real;
 
 use crate::app::{cycle_integrator, scale_dt, App};
-use crate::demos::{Source, DEMOS};
+use crate::demos::Source;
 use crate::palette;
 use crate::render::{legend, FONT};
 use crate::sim::Sim;
+use sprung_io::demos::DEMOS;
 
 /// Draw the panel of `app` in `area` and act on its controls.
 pub fn draw(app: &mut App, area: Rect) {

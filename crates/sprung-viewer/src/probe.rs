@@ -8,7 +8,7 @@
 
 use std::sync::{Mutex, MutexGuard};
 
-use crate::demos::DEMOS;
+use sprung_io::demos::DEMOS;
 
 /// What a frame leaves behind for the page.
 #[derive(Debug, Default)]

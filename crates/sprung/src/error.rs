@@ -153,6 +153,10 @@ pub enum BuildError {
         /// The first problem found.
         problem: SurfaceProblem,
     },
+    /// A body name that is empty or would break the columns of
+    /// `diagnostics.csv` (a comma, a quote or a line break).
+    #[error("body name {0:?}: a name must be non-empty, without commas, quotes or line breaks")]
+    BadName(String),
     /// Two bodies with the same name.
     #[error("a body named \"{0}\" already exists: body names must be unique")]
     DuplicateName(String),
@@ -168,14 +172,16 @@ pub enum StepError {
         dt: Real,
     },
     /// The state became non-finite or ran away: the run must stop.
-    #[error("simulation blew up at step {step} (t = {time:.6} s): particle {particle} {reason}; {}", advice(*dt, *stable_dt))]
+    #[error("simulation blew up at step {step} (t = {time:.6} s): particle {particle} ({body}) {reason}; {}", advice(*dt, *stable_dt))]
     BlowUp {
         /// Number of the step that produced the bad state (1 = first step).
         step: u64,
         /// Simulated time at the end of that step (s).
         time: Real,
-        /// A particle whose state is bad.
+        /// A particle whose state is bad (index in the world).
         particle: usize,
+        /// Which body it belongs to, in words: `body "rope", its particle 5`.
+        body: String,
         /// What is wrong with it.
         reason: BlowUpReason,
         /// The time step used (s).

@@ -124,6 +124,9 @@ impl World {
     /// index. Nothing is added when the body is refused.
     pub fn add_body(&mut self, name: &str, data: BodyData) -> Result<usize, BuildError> {
         data.validate()?;
+        if name.is_empty() || name.contains([',', '"', '\n', '\r']) {
+            return Err(BuildError::BadName(name.to_string()));
+        }
         if self.bodies.iter().any(|b| b.name == name) {
             return Err(BuildError::DuplicateName(name.to_string()));
         }
@@ -256,6 +259,18 @@ impl World {
                 step: self.steps,
                 time: self.time,
                 particle,
+                body: self
+                    .bodies
+                    .iter()
+                    .find(|b| b.particles.contains(&particle))
+                    .map(|b| {
+                        format!(
+                            "body \"{}\", its particle {}",
+                            b.name,
+                            particle - b.particles.start
+                        )
+                    })
+                    .unwrap_or_else(|| "no body".into()),
                 reason,
                 dt,
                 stable_dt: self.stable_time_step(),
@@ -295,12 +310,14 @@ impl World {
     /// Exact enclosed volume (m³), or area for a 2D body (m²), of body
     /// `body`; `None` if it is not closed.
     pub fn volume(&self, body: usize) -> Option<Real> {
-        self.bodies[body].enclosed_volume(&self.particles.position)
+        self.bodies
+            .get(body)?
+            .enclosed_volume(&self.particles.position)
     }
 
-    /// Pressure of body `body`'s gas (Pa; N/m for a 2D body), `None` without a gas.
+    /// Pressure of body `body`'s gas (Pa; N/m for a 2D body); `None` without a gas or such a body.
     pub fn pressure(&self, body: usize) -> Option<Real> {
-        forces::pressure(&self.bodies[body], &self.particles.position, self.time)
+        forces::pressure(self.bodies.get(body)?, &self.particles.position, self.time)
     }
 
     /// Total linear momentum (kg·m/s).
@@ -308,9 +325,9 @@ impl World {
         measure::linear_momentum(&self.particles)
     }
 
-    /// Mass-weighted centroid of body `body` (m).
-    pub fn centroid(&self, body: usize) -> Vec3 {
-        measure::centroid(&self.particles, &self.bodies[body])
+    /// Mass-weighted centroid of body `body` (m); `None` if there is no such body.
+    pub fn centroid(&self, body: usize) -> Option<Vec3> {
+        Some(measure::centroid(&self.particles, self.bodies.get(body)?))
     }
 
     /// A stable time step for the explicit methods (s); see

@@ -99,6 +99,7 @@ fn explicit_euler_far_above_the_stable_step_blows_up_with_a_clear_error() {
         reason,
         dt: reported_dt,
         stable_dt,
+        ..
     } = error.clone()
     else {
         panic!("expected a blow-up, got {error:?}");
@@ -201,4 +202,34 @@ fn symplectic_euler_is_bounded_just_below_the_estimate_and_blows_up_above() {
         Some(StepError::BlowUp { step, .. }) => assert!(step <= 30, "blew up late: {step}"),
         other => panic!("expected a blow-up at 1.5 times the estimate, got {other:?}"),
     }
+}
+
+#[test]
+fn the_blow_up_message_names_the_body_of_the_particle() {
+    // Two bodies; the second is a stiff chain driven far above its stable
+    // step, so the particle that runs away belongs to body "chain".
+    let mut world = World::new(IntegratorKind::Euler);
+    world
+        .add_body(
+            "still",
+            BodyData::from_positions(vec![Vec3::new(5.0, 0.0, 0.0)]).with_pinned(vec![0]),
+        )
+        .expect("valid");
+    world
+        .add_body(
+            "chain",
+            sprung::build::rope(6, 1.0)
+                .expect("rope")
+                .with_mass(0.01)
+                .with_stiffness(1000.0),
+        )
+        .expect("valid");
+    let error = (0..1000)
+        .find_map(|_| world.step(0.02).err())
+        .expect("blows up");
+    let message = error.to_string();
+    assert!(
+        message.contains("(body \"chain\", its particle "),
+        "{message}"
+    );
 }

@@ -508,3 +508,53 @@ fn placement_rotations_one_axis_at_a_time() {
         );
     }
 }
+
+#[test]
+fn absurd_builder_sizes_are_refused_not_allocated() {
+    // 1e11 particles would need terabytes: refused by the size check
+    // before any allocation (the test would abort otherwise).
+    let error = build::rope(100_000_000_000, 1.0).expect_err("too many");
+    assert!(
+        matches!(
+            error,
+            BuildError::OutOfRange {
+                field: "rope.particles",
+                ..
+            }
+        ),
+        "{error:?}"
+    );
+    let error = build::lattice(1 << 32, 1 << 32, 2, 1.0).expect_err("overflows");
+    assert!(
+        matches!(
+            error,
+            BuildError::OutOfRange {
+                field: "lattice.nx",
+                ..
+            }
+        ),
+        "{error:?}"
+    );
+    let error = build::cloth(5_000, 5_000, 1.0, 1.0, build::ClothSprings::default())
+        .expect_err("25 million");
+    assert!(
+        matches!(
+            error,
+            BuildError::OutOfRange {
+                field: "cloth.nx",
+                ..
+            }
+        ),
+        "{error:?}"
+    );
+}
+
+#[test]
+fn body_names_that_would_break_the_diagnostics_columns_are_refused() {
+    for name in ["", "a,b", "say \"hi\"", "two\nlines"] {
+        let mut world = World::new(IntegratorKind::SymplecticEuler);
+        let error = world.add_body(name, pair()).expect_err(name);
+        assert_eq!(error, BuildError::BadName(name.to_string()));
+        assert!(world.bodies.is_empty());
+    }
+}

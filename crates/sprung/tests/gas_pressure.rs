@@ -119,7 +119,7 @@ fn run_until(world: &mut World, dt: Real, until: Real) {
 
 /// Distances (m) of body 0's particles from its centroid.
 fn radii(world: &World) -> Vec<Real> {
-    let centre = world.centroid(0);
+    let centre = world.centroid(0).expect("body 0");
     world
         .particles
         .position
@@ -325,7 +325,7 @@ fn pressure_forces_on_a_closed_surface_have_no_resultant_and_no_torque() {
         body.gas = Some(Gas::new(10.0, 0.0));
         let world = weightless(IntegratorKind::SymplecticEuler, body);
         let force = gas_force(&world);
-        let centre = world.centroid(0);
+        let centre = world.centroid(0).expect("body 0");
         let x = &world.particles.position;
         let scale: Real = force.iter().map(|f| f.length()).sum();
         assert!(scale > 0.0);
@@ -579,7 +579,7 @@ fn undamped_pressurised_ball_conserves_energy_within_the_integrators_band() {
         let residual = world.energies().kinetic;
 
         let mut rng = Rng::new(17);
-        let centre = world.centroid(0);
+        let centre = world.centroid(0).expect("body 0");
         let count = world.particles.len();
         let mut velocity: Vec<Vec3> = world
             .particles

@@ -58,7 +58,7 @@ impl Diagnostics {
         );
         let optional = |value: Option<f64>| value.map(|v| v.to_string()).unwrap_or_default();
         for index in 0..world.bodies.len() {
-            let c = world.centroid(index);
+            let c = world.centroid(index).unwrap_or_default();
             let (volume, pressure) = (
                 optional(world.volume(index)),
                 optional(world.pressure(index)),

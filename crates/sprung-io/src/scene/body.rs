@@ -388,6 +388,6 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::BadFace { .. } => "faces",
         BuildError::BadSegment { .. } => "segments",
         BuildError::GasWithoutSurface | BuildError::OpenSurface { .. } => "gas",
-        BuildError::DuplicateName(_) => "name",
+        BuildError::DuplicateName(_) | BuildError::BadName(_) => "name",
     }
 }

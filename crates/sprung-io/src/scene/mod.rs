@@ -21,6 +21,9 @@ use sprung::{collide, Collider, ContactResponse, IntegratorKind, Real, Shape, Ve
 use error::{line_of, line_of_key};
 use tables::{ColliderTable, SceneFile, SimTable};
 
+/// Most steps a scene may ask for (a run of 10¹² steps would take days).
+pub const MAX_STEPS: u64 = 1_000_000_000_000;
+
 /// Simulated time when `[sim]` gives neither `duration` nor `steps` (s).
 pub const DEFAULT_DURATION: Real = 5.0;
 
@@ -177,6 +180,12 @@ fn timing(sim: &SimTable) -> Result<(IntegratorKind, Real, u64), KeyError> {
             return Err(("steps", "give `duration` or `steps`, not both".into()));
         }
         (None, Some(0)) => return Err(("steps", "`steps` must be at least 1".into())),
+        (None, Some(steps)) if steps > MAX_STEPS => {
+            return Err((
+                "steps",
+                format!("`steps` = {steps}: at most {MAX_STEPS:.0e}"),
+            ));
+        }
         (None, Some(steps)) => steps,
         (duration, None) => {
             let duration = positive(
@@ -184,7 +193,14 @@ fn timing(sim: &SimTable) -> Result<(IntegratorKind, Real, u64), KeyError> {
                 duration.unwrap_or(DEFAULT_DURATION),
                 "the duration must be positive and finite (s)",
             )?;
-            (duration / dt).round().max(1.0) as u64
+            let steps = (duration / dt).round().max(1.0);
+            if steps > MAX_STEPS as f64 {
+                return Err((
+                    "duration",
+                    format!("`duration` / `dt` = {steps:.3e} steps: at most {MAX_STEPS:.0e}"),
+                ));
+            }
+            steps as u64
         }
     };
     if sim.every == Some(0) {

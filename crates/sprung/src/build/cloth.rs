@@ -1,7 +1,7 @@
 //! A cloth: an `nx × ny` grid of particles in the xy-plane with structural,
 //! shear and bending springs (PHYSICS.md §2), and its triangles.
 
-use super::{check_count, check_length};
+use super::{check_count, check_length, check_total};
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
 use crate::{Real, Vec3};
@@ -51,6 +51,7 @@ pub fn cloth(
         2,
         "a cloth needs at least 2 particles along y",
     )?;
+    check_total("cloth.nx", &[nx, ny])?;
     check_length("cloth.width", width)?;
     check_length("cloth.height", height)?;
     let (dx, dy) = (width / (nx - 1) as Real, height / (ny - 1) as Real);

@@ -3,6 +3,7 @@
 //! surface (PHYSICS.md §2: "a lattice filling the inside tied to the
 //! surface"). It holds a mesh's shape without gas, like jelly.
 
+use crate::error::BuildError;
 use crate::{Real, Vec3};
 
 /// Interior lattice points of the closed surface (`position`, `faces`) at
@@ -15,12 +16,20 @@ pub(crate) fn lattice_fill(
     position: &[Vec3],
     faces: &[[usize; 3]],
     spacing: Real,
-) -> (Vec<Vec3>, Vec<[usize; 2]>) {
+) -> Result<(Vec<Vec3>, Vec<[usize; 2]>), BuildError> {
     let low = position.iter().copied().fold(Vec3::INFINITY, Vec3::min);
     let high = position.iter().copied().fold(Vec3::NEG_INFINITY, Vec3::max);
     // As many points along each axis as fit `spacing` apart strictly inside
     // the bounding box, centred in it: none lands on a flat bounding face.
     let counts = ((high - low) / spacing).floor().max(Vec3::ONE);
+    let cells = counts.x * counts.y * counts.z;
+    if cells.is_nan() || cells > super::MAX_PARTICLES as Real {
+        return Err(BuildError::OutOfRange {
+            field: "lattice_spacing",
+            value: spacing,
+            reason: "the internal lattice would have more than 10 000 000 particles",
+        });
+    }
     let [nx, ny, nz] = [counts.x as usize, counts.y as usize, counts.z as usize];
     let origin = 0.5 * (low + high) - 0.5 * spacing * (counts - Vec3::ONE);
     let mut index = vec![usize::MAX; nx * ny * nz];
@@ -78,7 +87,7 @@ pub(crate) fn lattice_fill(
             springs.push([vertex, offset + nearest]);
         }
     }
-    (points, springs)
+    Ok((points, springs))
 }
 
 /// The 13 lattice offsets that are lexicographically positive: each pair

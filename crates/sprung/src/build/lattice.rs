@@ -2,7 +2,7 @@
 //! neighbours (PHYSICS.md §2). A 6-neighbour lattice has no resistance to
 //! shear; the face and body diagonals make it hold its shape.
 
-use super::{check_count, check_length};
+use super::{check_count, check_length, check_total};
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
 use crate::{Real, Vec3};
@@ -20,6 +20,7 @@ pub fn lattice(nx: usize, ny: usize, nz: usize, spacing: Real) -> Result<BodyDat
             "a lattice needs at least 2 particles along each axis",
         )?;
     }
+    check_total("lattice.nx", &[nx, ny, nz])?;
     check_length("lattice.spacing", spacing)?;
     let id = |x: usize, y: usize, z: usize| (z * ny + y) * nx + x;
     let cells =

@@ -25,6 +25,25 @@ pub use surface::{refine, surface, Internal, SurfaceSprings};
 use crate::error::BuildError;
 use crate::Real;
 
+/// Most particles a builder makes (ten million: about 1 GB of state).
+pub const MAX_PARTICLES: usize = 10_000_000;
+
+/// The product of `counts` (particles along each axis), refused above
+/// [`MAX_PARTICLES`] or if it overflows.
+fn check_total(field: &'static str, counts: &[usize]) -> Result<usize, BuildError> {
+    let total = counts
+        .iter()
+        .try_fold(1usize, |product, &n| product.checked_mul(n));
+    match total {
+        Some(total) if total <= MAX_PARTICLES => Ok(total),
+        _ => Err(BuildError::OutOfRange {
+            field,
+            value: counts.iter().map(|&n| n as Real).product(),
+            reason: "too many particles (at most 10 000 000)",
+        }),
+    }
+}
+
 /// Refuse a count below `min`.
 fn check_count(
     field: &'static str,

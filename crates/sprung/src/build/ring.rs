@@ -1,7 +1,7 @@
 //! A ring: the 2D soft ball of the textbook (PHYSICS.md §2), `N` particles
 //! on a circle joined into a closed loop.
 
-use super::{check_count, check_length};
+use super::{check_count, check_length, check_total};
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
 use crate::{Real, Vec3};
@@ -18,6 +18,7 @@ pub fn ring(particles: usize, radius: Real) -> Result<BodyData, BuildError> {
         "a ring needs at least 3 particles",
     )?;
     check_length("ring.radius", radius)?;
+    check_total("ring.particles", &[particles])?;
     let position = (0..particles)
         .map(|k| {
             let angle = std::f64::consts::TAU * k as Real / particles as Real;

@@ -1,7 +1,7 @@
 //! A rope: a chain of particles hanging from the origin along -y, springs
 //! between neighbours, the top particle pinned.
 
-use super::{check_count, check_length};
+use super::{check_count, check_length, check_total};
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
 use crate::{Real, Vec3};
@@ -18,6 +18,7 @@ pub fn rope(particles: usize, length: Real) -> Result<BodyData, BuildError> {
         "a rope needs at least 2 particles",
     )?;
     check_length("rope.length", length)?;
+    check_total("rope.particles", &[particles])?;
     let spacing = length / (particles - 1) as Real;
     let position = (0..particles)
         .map(|i| Vec3::new(0.0, -spacing * i as Real, 0.0))

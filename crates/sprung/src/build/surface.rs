@@ -79,7 +79,7 @@ pub fn surface(
                     reason: "the internal lattice spacing must be positive (m)",
                 });
             }
-            let (points, ties) = lattice_fill(&position, &faces, spacing);
+            let (points, ties) = lattice_fill(&position, &faces, spacing)?;
             position.extend(points);
             pairs.extend(ties);
         }
