@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{assert_no_partial_files, sprung, text, write};
+use common::{assert_no_partial_files, sprung, text, write, BLOW_UP_SCENE};
 
 use std::path::Path;
 
@@ -148,22 +148,8 @@ fn frames_in_vtk_and_obj() {
 
 #[test]
 fn blow_up_stops_with_step_and_stable_dt_and_no_nan() {
-    // Explicit Euler on a 1000 N/m, 0.01 kg chain: ω_max = 2√(k/m) ≈ 632 /s,
-    // so the stable estimate is 1/√(k/m) ≈ 3.2e-3 s; dt = 0.02 s is far above.
-    let scene = r#"[sim]
-dt = 0.02
-integrator = "euler"
-steps = 100000
-every = 1
-
-[[body]]
-name = "chain"
-rope = { particles = 6, length = 1.0 }
-mass = 0.01
-stiffness = 1000.0
-"#;
     let dir = tempfile::tempdir().expect("tempdir");
-    write(dir.path(), "boom.toml", scene);
+    write(dir.path(), "boom.toml", BLOW_UP_SCENE);
     let output = sprung(&["run", "boom.toml", "--out", "o"], dir.path());
     assert_eq!(
         output.status.code(),

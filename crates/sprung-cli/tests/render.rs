@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_no_partial_files, png_size, sprung, text, write};
+use common::{assert_no_partial_files, png_size, sprung, text, write, BLOW_UP_SCENE};
 
 use std::path::{Path, PathBuf};
 
@@ -273,20 +273,8 @@ fn errors_name_the_path_and_write_nothing() {
 
 #[test]
 fn a_blow_up_keeps_the_pictures_before_it_and_says_so() {
-    // Explicit Euler far above its stable step (see cli.rs).
-    let scene = r#"[sim]
-dt = 0.02
-integrator = "euler"
-steps = 100000
-
-[[body]]
-name = "chain"
-rope = { particles = 6, length = 1.0 }
-mass = 0.01
-stiffness = 1000.0
-"#;
     let dir = tempfile::tempdir().expect("tempdir");
-    write(dir.path(), "boom.toml", scene);
+    write(dir.path(), "boom.toml", BLOW_UP_SCENE);
     let output = sprung(
         &[
             "render",

@@ -2,6 +2,9 @@
 //! (a drop from `h` bounces to `e² h`) and Coulomb friction (a slide
 //! decelerates at `μ g`), and the penalty form's static depth `m g / k_c`.
 
+mod common;
+
+use common::assert_penalty_rest;
 use sprung::{BodyData, Collider, ContactResponse, IntegratorKind, Real, Shape, Vec3, World};
 
 const G: Real = 9.81; // m/s²
@@ -176,18 +179,13 @@ fn a_particle_rests_on_a_penalty_floor_at_depth_m_g_over_k() {
             world.step(1e-4).expect("stable");
         }
         let depth = -world.particles.position[0].y;
-        // At rest every method's fixed point is the force balance
-        // k_c depth = m g; round-off is ~1e-13 relative. We claim 1e-9.
-        assert!(
-            (depth / expected - 1.0).abs() <= 1e-9,
-            "{kind}: depth {depth:.9e} m, expected m g / k_c = {expected:.9e} m"
-        );
         // The penalty spring's energy is reported as contact energy.
-        let contact = world.energies().contact;
-        let expected_energy = 0.5 * stiffness * expected * expected;
-        assert!(
-            (contact / expected_energy - 1.0).abs() <= 1e-8,
-            "{kind}: contact energy {contact:.6e} J, expected ½ k_c d² = {expected_energy:.6e} J"
+        assert_penalty_rest(
+            kind.name(),
+            depth,
+            expected,
+            world.energies().contact,
+            stiffness,
         );
     }
 }
@@ -203,22 +201,25 @@ fn penalty_friction_decelerates_a_slide_at_mu_g() {
     // smooth motion: 0.5 % covers both with a wide margin.
     let (mass, g, mu, stiffness): (Real, Real, Real, Real) = (1.0, 9.81, 0.4, 1e5);
     let damping = 2.0 * (stiffness * mass).sqrt();
-    let mut world = World::new(IntegratorKind::SymplecticEuler);
-    world.settings.gravity = Vec3::new(0.0, -g, 0.0);
     let depth = mass * g / stiffness;
-    let point = BodyData::from_positions(vec![Vec3::new(0.0, -depth, 0.0)])
-        .with_mass(mass)
-        .with_velocity(Vec3::new(2.0, 0.0, 0.0));
-    world.add_body("point", point).expect("valid");
-    let plane = Shape::plane(Vec3::ZERO, Vec3::Y).expect("plane");
-    let response = ContactResponse::Penalty {
-        stiffness,
-        damping,
-        friction: mu,
+    let sliding = |friction: Real| {
+        let mut world = World::new(IntegratorKind::SymplecticEuler);
+        world.settings.gravity = Vec3::new(0.0, -g, 0.0);
+        let point = BodyData::from_positions(vec![Vec3::new(0.0, -depth, 0.0)])
+            .with_mass(mass)
+            .with_velocity(Vec3::new(2.0, 0.0, 0.0));
+        world.add_body("point", point).expect("valid");
+        let plane = Shape::plane(Vec3::ZERO, Vec3::Y).expect("plane");
+        let response = ContactResponse::Penalty {
+            stiffness,
+            damping,
+            friction,
+        };
+        world
+            .colliders
+            .push(Collider::new(plane, response).expect("collider"));
+        world
     };
-    world
-        .colliders
-        .push(Collider::new(plane, response).expect("collider"));
     let dt = 1e-4;
     let speed_after = |world: &mut World, steps: usize| {
         for _ in 0..steps {
@@ -226,6 +227,7 @@ fn penalty_friction_decelerates_a_slide_at_mu_g() {
         }
         world.particles.velocity[0].x
     };
+    let mut world = sliding(mu);
     let v1 = speed_after(&mut world, 100);
     let v2 = speed_after(&mut world, 1000);
     let deceleration = (v1 - v2) / (1000.0 * dt);
@@ -236,19 +238,5 @@ fn penalty_friction_decelerates_a_slide_at_mu_g() {
         mu * g
     );
     // Without friction the same slide keeps its speed (no tangential force).
-    let mut frictionless = World::new(IntegratorKind::SymplecticEuler);
-    frictionless.settings.gravity = Vec3::new(0.0, -g, 0.0);
-    let point = BodyData::from_positions(vec![Vec3::new(0.0, -depth, 0.0)])
-        .with_mass(mass)
-        .with_velocity(Vec3::new(2.0, 0.0, 0.0));
-    frictionless.add_body("point", point).expect("valid");
-    let response = ContactResponse::Penalty {
-        stiffness,
-        damping,
-        friction: 0.0,
-    };
-    frictionless
-        .colliders
-        .push(Collider::new(plane, response).expect("collider"));
-    assert_eq!(speed_after(&mut frictionless, 1100), 2.0);
+    assert_eq!(speed_after(&mut sliding(0.0), 1100), 2.0);
 }

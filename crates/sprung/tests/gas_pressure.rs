@@ -39,6 +39,31 @@ struct Ring {
     nrt: Real,
 }
 
+/// The three parameter sets of the equilibrium claims (PHYSICS.md §7).
+const RINGS: [Ring; 3] = [
+    Ring {
+        n: 17,
+        r0: 1.0,
+        mass: 0.1,
+        k: 1000.0,
+        nrt: 300.0,
+    },
+    Ring {
+        n: 8,
+        r0: 0.5,
+        mass: 0.05,
+        k: 200.0,
+        nrt: 20.0,
+    },
+    Ring {
+        n: 40,
+        r0: 2.0,
+        mass: 0.02,
+        k: 5000.0,
+        nrt: 5000.0,
+    },
+];
+
 impl Ring {
     fn sin(&self) -> Real {
         (PI / self.n as Real).sin()
@@ -151,29 +176,7 @@ fn bisection_matches_the_closed_form_radius() {
     // quadratic R² - R0 R - C = 0, C = nRT / (2 k N s²), so
     // R = (R0 + √(R0² + 4C)) / 2. Bisection to the last bit agrees to
     // round-off (1e-12 relative).
-    for ring in [
-        Ring {
-            n: 17,
-            r0: 1.0,
-            mass: 0.1,
-            k: 1000.0,
-            nrt: 300.0,
-        },
-        Ring {
-            n: 8,
-            r0: 0.5,
-            mass: 0.05,
-            k: 200.0,
-            nrt: 20.0,
-        },
-        Ring {
-            n: 40,
-            r0: 2.0,
-            mass: 0.02,
-            k: 5000.0,
-            nrt: 5000.0,
-        },
-    ] {
+    for ring in RINGS {
         let c = ring.nrt / (2.0 * ring.k * ring.n as Real * ring.sin().powi(2));
         let closed = 0.5 * (ring.r0 + (ring.r0 * ring.r0 + 4.0 * c).sqrt());
         let r = ring.equilibrium(ring.nrt);
@@ -216,29 +219,7 @@ fn pressurised_ring_settles_at_the_balance_radius() {
     // non-breathing modes ~ε |x| per step, which adds up to at most n ε |x|
     // ≈ 1e-11 |x| over the n ≲ 2e4 steps (Verlet's x⁺ = 2x - x⁻ + a dt²
     // comes closest to that).
-    for ring in [
-        Ring {
-            n: 17,
-            r0: 1.0,
-            mass: 0.1,
-            k: 1000.0,
-            nrt: 300.0,
-        },
-        Ring {
-            n: 8,
-            r0: 0.5,
-            mass: 0.05,
-            k: 200.0,
-            nrt: 20.0,
-        },
-        Ring {
-            n: 40,
-            r0: 2.0,
-            mass: 0.02,
-            k: 5000.0,
-            nrt: 5000.0,
-        },
-    ] {
+    for ring in RINGS {
         let r = ring.equilibrium(ring.nrt);
         let omega = (ring.radial_stiffness(r, ring.nrt) / ring.mass).sqrt();
         let ramp = 10.0 / omega;

@@ -3,6 +3,21 @@
 #![allow(dead_code)] // each test file uses only some of them
 
 use std::path::{Path, PathBuf};
+
+/// Explicit Euler on a 1000 N/m, 0.01 kg chain: ω_max = 2√(k/m) ≈ 632 /s,
+/// so the stable estimate is 1/√(k/m) ≈ 3.2e-3 s; dt = 0.02 s is far above
+/// and the run blows up within a few steps.
+pub const BLOW_UP_SCENE: &str = r#"[sim]
+dt = 0.02
+integrator = "euler"
+steps = 100000
+
+[[body]]
+name = "chain"
+rope = { particles = 6, length = 1.0 }
+mass = 0.01
+stiffness = 1000.0
+"#;
 use std::process::{Command, Output};
 
 /// Run the `sprung` binary with `args` in `dir`.

@@ -228,3 +228,26 @@ pub fn faces_u32(faces: &[[usize; 3]]) -> Vec<[u32; 3]> {
 pub fn segments_u32(segments: &[[usize; 2]]) -> Vec<[u32; 2]> {
     segments.iter().map(|s| s.map(|i| i as u32)).collect()
 }
+
+/// Assert a particle rests in a penalty contact of stiffness `stiffness`
+/// (N/m) at `depth` (m) = `expected` = m g / k_c, and that `contact` (J), the
+/// world's contact energy, is ½ k_c depth². At rest every integrator's fixed
+/// point is the force balance k_c depth = m g, to round-off (~1e-13
+/// relative): we claim 1e-9 for the depth and 1e-8 for the energy.
+pub fn assert_penalty_rest(
+    label: &str,
+    depth: Real,
+    expected: Real,
+    contact: Real,
+    stiffness: Real,
+) {
+    assert!(
+        (depth / expected - 1.0).abs() <= 1e-9,
+        "{label}: depth {depth:.9e} m, expected m g / k_c = {expected:.9e} m"
+    );
+    let expected_energy = 0.5 * stiffness * expected * expected;
+    assert!(
+        (contact / expected_energy - 1.0).abs() <= 1e-8,
+        "{label}: contact energy {contact:.6e} J, expected ½ k_c d² = {expected_energy:.6e} J"
+    );
+}
