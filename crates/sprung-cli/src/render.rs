@@ -194,17 +194,7 @@ fn run_scene(
     if let Some(kind) = args.integrator {
         scene.world.set_integrator(kind);
     }
-    let steps = match (args.steps, args.time) {
-        (Some(0), _) => return Err(CliError::Input("--steps must be at least 1".into())),
-        (Some(n), _) => n,
-        (None, Some(t)) if !(t.is_finite() && t > 0.0) => {
-            return Err(CliError::Input(format!(
-                "--time {t}: must be a positive, finite time (s)"
-            )))
-        }
-        (None, Some(t)) => crate::run::checked_steps(t / scene.dt, "--time")?,
-        (None, None) => scene.steps,
-    };
+    let steps = crate::run::planned_steps(&scene, args.steps, args.time)?;
     let every = match args.every {
         Some(0) => return Err(CliError::Input("--every must be at least 1".into())),
         Some(k) => k,

@@ -79,7 +79,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
     if let Some(kind) = options.integrator {
         scene.world.set_integrator(kind);
     }
-    let steps = planned_steps(&scene, options)?;
+    let steps = planned_steps(&scene, options.steps, options.time)?;
     let every = options
         .every
         .or(scene.every)
@@ -162,7 +162,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
 
 /// `steps` (a count from a time divided by a step), refused above
 /// [`sprung_io::scene::MAX_STEPS`].
-pub(crate) fn checked_steps(steps: f64, what: &str) -> Result<u64, CliError> {
+fn checked_steps(steps: f64, what: &str) -> Result<u64, CliError> {
     if steps > sprung_io::scene::MAX_STEPS as f64 {
         return Err(CliError::Input(format!(
             "{what}: {steps:.3e} steps is more than the {:.0e} a run may take",
@@ -172,8 +172,14 @@ pub(crate) fn checked_steps(steps: f64, what: &str) -> Result<u64, CliError> {
     Ok((steps.round() as u64).max(1))
 }
 
-fn planned_steps(scene: &Scene, options: &RunOptions) -> Result<u64, CliError> {
-    match (options.steps, options.time) {
+/// The number of steps to run `scene`: `steps`, or `time` (s) divided by
+/// its time step, or the scene's own duration. Shared by `run` and `render`.
+pub(crate) fn planned_steps(
+    scene: &Scene,
+    steps: Option<u64>,
+    time: Option<f64>,
+) -> Result<u64, CliError> {
+    match (steps, time) {
         (Some(0), _) => Err(CliError::Input("--steps must be at least 1".into())),
         (Some(n), _) => Ok(n),
         (None, Some(t)) if !(t.is_finite() && t > 0.0) => Err(CliError::Input(format!(
