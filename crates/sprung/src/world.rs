@@ -245,9 +245,9 @@ impl World {
             .find_map(|(i, (x, v))| {
                 if !(x.is_finite() && v.is_finite()) {
                     Some((i, BlowUpReason::NonFinite))
-                } else if x.length() > limits.max_distance {
+                } else if x.length_squared() > limits.max_distance.powi(2) {
                     Some((i, BlowUpReason::TooFar(x.length())))
-                } else if v.length() > limits.max_speed {
+                } else if v.length_squared() > limits.max_speed.powi(2) {
                     Some((i, BlowUpReason::TooFast(v.length())))
                 } else {
                     None
