@@ -79,7 +79,7 @@ fn gas_balls(steps: u32) -> Result<(), CliError> {
             .with_damping(0.01);
         ball.gas = Some(Gas::new(100.0, 0.0));
         let mut world = World::new(IntegratorKind::SymplecticEuler);
-        world.settings.gravity = Vec3::ZERO;
+        world.set_gravity(Vec3::ZERO);
         world
             .add_body("ball", ball)
             .map_err(|e| CliError::Input(e.to_string()))?;

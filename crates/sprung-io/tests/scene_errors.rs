@@ -371,7 +371,7 @@ fn a_good_wind_table_adds_one_force() {
     let wind = "[wind]\nvelocity = [1.0, 0.0, 0.0]\nmodel = \"area\"\nlift = 0.5\ngust = { amplitude = 0.3, period = 2.0 }\nturbulence = { amplitude = 1.0, length_scale = 0.5, time_scale = 0.3 }\nseed = 7\n";
     let scene = parse_scene(&format!("{GOOD}{wind}"), Path::new("w.toml"))
         .unwrap_or_else(|e| panic!("{e}"));
-    assert!(scene.world.wind.is_some());
+    assert!(scene.world.forces.get::<sprung::forces::Wind>().is_some());
 }
 
 #[test]

@@ -11,7 +11,7 @@ use sprung_io::export::{read_vtk_frame, write_frame, FrameFormat, VtkFrame};
 /// A gas-free ring (a closed 2D outline), a rope and a small cloth.
 fn world() -> World {
     let mut world = World::new(IntegratorKind::SymplecticEuler);
-    world.settings.gravity = Vec3::new(0.0, -9.81, 0.0);
+    world.set_gravity(Vec3::new(0.0, -9.81, 0.0));
     let ring = build::ring(5, 0.5).expect("ring").with_stiffness(100.0);
     world.add_body("ring", ring).expect("ring");
     let rope = build::rope(3, 1.0).expect("rope").with_stiffness(100.0);

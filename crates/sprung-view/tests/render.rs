@@ -212,7 +212,7 @@ fn strain_colours_blend_linearly_and_saturate() {
 /// not carry colliders).
 fn hanging_world() -> World {
     let mut world = World::new(IntegratorKind::SymplecticEuler);
-    world.settings.gravity = Vec3::new(0.0, -9.81, 0.0);
+    world.set_gravity(Vec3::new(0.0, -9.81, 0.0));
     let rope = build::rope(8, 1.0).expect("rope").with_stiffness(300.0);
     world.add_body("rope", rope).expect("rope");
     let cloth = build::cloth(6, 6, 1.0, 1.0, build::ClothSprings::default())

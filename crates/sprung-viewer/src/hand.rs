@@ -1,5 +1,5 @@
 //! The user's hand: grab the particle nearest the cursor and drag it with a
-//! damped spring ([`MouseSpring`] on [`World::mouse`], removed on release,
+//! damped spring ([`MouseSpring`] in `World::forces`, removed on release,
 //! so a fast release throws), or push bodies about with a sphere collider
 //! that follows the cursor (a kinematic [`Collider`] whose path is the
 //! cursor's motion over each frame).
@@ -79,20 +79,22 @@ impl Hand {
             target: anchor,
             anchor,
         });
-        world.mouse = Some(spring(world, particle, anchor, dt));
+        world.forces.set(spring(world, particle, anchor, dt));
     }
 
     /// Let go: remove the spring (the particle keeps its velocity).
     pub fn release(&mut self, world: &mut World) {
         self.grab = None;
-        world.mouse = None;
+        world.forces.remove::<MouseSpring>();
     }
 
     /// Move the grabbed particle's target under the cursor.
     pub fn drag(&mut self, world: &mut World, view: &View, viewport: Rect, cursor: Vec2, dt: Real) {
         if let Some(grab) = self.grab.as_mut() {
             grab.target = view.cursor_point(cursor, grab.anchor, viewport);
-            world.mouse = Some(spring(world, grab.particle, grab.target, dt));
+            world
+                .forces
+                .set(spring(world, grab.particle, grab.target, dt));
         }
     }
 
@@ -225,7 +227,7 @@ mod tests {
         let distance = (to_f32(world.particles.position[particle]) - target).length();
         assert!(distance < 0.1, "{distance} m from the cursor");
         hand.release(&mut world);
-        assert!(world.mouse.is_none());
+        assert!(world.forces.get::<MouseSpring>().is_none());
     }
 
     #[test]
@@ -242,7 +244,7 @@ mod tests {
     #[test]
     fn the_poking_sphere_pushes_particles_out() {
         let mut world = world("ball3d");
-        world.settings.gravity = sprung::Vec3::ZERO;
+        world.set_gravity(sprung::Vec3::ZERO);
         let mut hand = Hand::default();
         let centre = to_f32(world.centroid(0).unwrap_or_default());
         hand.toggle_poke(&mut world, centre + Vec3::new(2.0, 0.0, 0.0), 0.3);

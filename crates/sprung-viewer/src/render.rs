@@ -6,6 +6,7 @@ use macroquad::color::Color;
 use macroquad::math::{vec2, Rect, Vec2};
 use macroquad::shapes::{draw_circle, draw_circle_lines, draw_line, draw_rectangle};
 use macroquad::text::{draw_text, measure_text};
+use sprung::forces::Wind;
 use sprung::{Shape, World};
 
 use crate::palette;
@@ -34,14 +35,14 @@ pub fn is_flat(world: &World) -> bool {
     let in_plane = particles.position.iter().all(|p| p.z == 0.0)
         && particles.velocity.iter().all(|v| v.z == 0.0);
     let wind = world
-        .wind
-        .as_ref()
+        .forces
+        .get::<Wind>()
         .is_none_or(|w| w.field.is_uniform() && w.field.velocity.z == 0.0);
     let colliders = world.colliders.iter().all(|c| match c.shape {
         Shape::Plane { normal, .. } => normal.z == 0.0,
         Shape::Sphere { centre, .. } => centre.z == 0.0,
     });
-    in_plane && world.settings.gravity.z == 0.0 && wind && colliders
+    in_plane && world.gravity().z == 0.0 && wind && colliders
 }
 
 /// The strain to draw in full colour: a round number (1, 2 or 5 × 10ⁿ,

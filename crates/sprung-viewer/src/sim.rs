@@ -2,6 +2,7 @@
 //! integrator, stiffness, damping, gas and wind) and real-time stepping on a
 //! budget of wall-clock time per frame.
 
+use sprung::forces::Wind;
 use sprung::{IntegratorKind, Real, Vec3, World};
 use sprung_io::Scene;
 
@@ -143,7 +144,7 @@ impl Sim {
                 }
             }
         }
-        if let (Some(wind), Some(w0)) = (self.world.wind.as_mut(), self.base.wind) {
+        if let (Some(wind), Some(w0)) = (self.world.forces.get_mut::<Wind>(), self.base.wind) {
             wind.field.velocity = w0.normalize_or_zero() * s.wind_speed;
         }
     }
@@ -186,7 +187,7 @@ impl Sim {
     /// One step of the current `dt`; false (and `failure` set) on a blow-up.
     pub fn step_once(&mut self) -> bool {
         match self.world.step(self.settings.dt) {
-            Ok(()) => true,
+            Ok(_) => true,
             Err(e) => {
                 self.failure = Some(e.to_string());
                 false
@@ -214,7 +215,7 @@ impl Base {
                 .iter()
                 .map(|b| b.gas.as_ref().map(|g| (g.nrt, g.keyframes.clone())))
                 .collect(),
-            wind: world.wind.as_ref().map(|w| w.field.velocity),
+            wind: world.forces.get::<Wind>().map(|w| w.field.velocity),
         }
     }
 }
@@ -271,7 +272,7 @@ mod tests {
         sim.settings.wind_speed = 4.0;
         sim.apply();
         assert_eq!(sim.world.springs.stiffness[0], 2.0 * k0);
-        let wind = sim.world.wind.as_ref().map(|w| w.field.velocity);
+        let wind = sim.world.forces.get::<Wind>().map(|w| w.field.velocity);
         assert_eq!(wind, Some(Vec3::new(4.0, 0.0, 0.0)));
         let scene = Source::Demo(crate::demos::find("flag").unwrap_or(0)).load();
         let reset = Sim::with_settings(scene.unwrap_or_else(|e| panic!("{e}")), sim.settings);

@@ -162,9 +162,32 @@ pub enum BuildError {
     DuplicateName(String),
 }
 
+/// Why an implicit solver could not take a step.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SolverError {
+    /// The projective solver's matrix `M + dt² L` could not be factored
+    /// (it should always be positive definite; this means non-finite
+    /// masses or stiffnesses).
+    #[error("the projective solver could not factor its matrix M + dt² L: {0}")]
+    Factorization(String),
+}
+
 /// Why a step could not be taken, or why the run must stop.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum StepError {
+    /// Solver settings out of range (`World::settings.solver`).
+    #[error("solver settings: {0}")]
+    InvalidSettings(BuildError),
+    /// The implicit solver failed at this step.
+    #[error("step {step} (t = {time:.6} s): {source}")]
+    Solver {
+        /// Number of the step that failed (1 = first step).
+        step: u64,
+        /// Simulated time at the start of that step (s).
+        time: Real,
+        /// What went wrong.
+        source: SolverError,
+    },
     /// A time step that is zero, negative or not finite.
     #[error("time step dt = {dt} s: it must be positive and finite")]
     InvalidTimeStep {

@@ -13,7 +13,7 @@
 //! use sprung::{build, Vec3, World, IntegratorKind};
 //!
 //! let mut world = World::new(IntegratorKind::SymplecticEuler);
-//! world.settings.gravity = Vec3::new(0.0, -9.81, 0.0);
+//! world.set_gravity(Vec3::new(0.0, -9.81, 0.0));
 //! let rope = build::rope(10, 2.0).expect("valid rope").with_stiffness(500.0);
 //! world.add_body("rope", rope).expect("valid body");
 //! for _ in 0..100 {

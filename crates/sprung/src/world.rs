@@ -3,53 +3,65 @@
 //!
 //! One step is a short sequence of named stages:
 //!
-//! 1. **clear forces** and 2. **accumulate forces** (gravity, springs, gas
-//!    pressure, air drag, wind, the mouse spring, the extra forces in [`World::forces`], penalty contacts), run by
-//!    the integrator through [`Dynamics`] as many times as it needs;
-//! 3. **integrate** positions and velocities;
-//! 4. **constrain**: the place for distance constraints (rigid rods), which
+//! 1. **forces**: the integrator asks [`Dynamics`] for the forces of the one
+//!    [`ForceList`] (gravity, springs, gas pressure, air drag, wind, the
+//!    user's hand, penalty contacts, anything added) at every trial state it
+//!    needs, and the implicit integrators for their Jacobian products;
+//! 2. **integrate** positions and velocities (explicit, or implicit with a
+//!    solver that reports its iterations in a [`StepReport`]);
+//! 3. **constrain**: the place for distance constraints (rigid rods), which
 //!    the engine does not have yet;
-//! 5. **collide**: projection-form colliders, where they are at the end of
+//! 4. **collide**: projection-form colliders, where they are at the end of
 //!    the step (moving ones follow their path), move particles back out;
-//! 6. **guard**: a non-finite or runaway state stops the run with
+//! 5. **guard**: a non-finite or runaway state stops the run with
 //!    [`StepError::BlowUp`].
 
 use crate::body::{Body, BodyData};
 use crate::collide::{self, Collider};
 use crate::error::{BlowUpReason, BuildError, StepError};
 use crate::forces::{
-    self, AirDrag, Force, ForceContext, GasPressure, Gravity, MouseSpring, SpringForce, Wind,
+    self, AirDrag, ForceContext, ForceList, GasPressure, Gravity, JacobianScale, Linearization,
+    PenaltyContacts, SpringForce,
 };
-use crate::integrate::{Derivative, Integrator, IntegratorKind};
+use crate::integrate::{Derivative, Integrator, IntegratorKind, SolverSettings, State, StepReport};
 use crate::measure::{self, Energies};
 use crate::particles::Particles;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
 
-/// World-wide physical settings.
+/// World-wide settings: blow-up limits and the implicit solvers' tolerances.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Settings {
-    /// Acceleration of gravity (m/s²). Default `(0, -9.81, 0)`.
-    pub gravity: Vec3,
-    /// Global air drag coefficient `c_air` (N·s/m). Default 0.
-    pub air_drag: Real,
     /// A particle farther than this from the origin (m) means the run has
     /// blown up. Default 1e6 m.
     pub max_distance: Real,
     /// A particle faster than this (m/s) means the run has blown up.
     /// Default 1e6 m/s.
     pub max_speed: Real,
+    /// Tolerances and iteration limits of the implicit integrators.
+    pub solver: SolverSettings,
 }
 
 impl Default for Settings {
     fn default() -> Self {
         Settings {
-            gravity: Vec3::new(0.0, -9.81, 0.0),
-            air_drag: 0.0,
             max_distance: 1e6,
             max_speed: 1e6,
+            solver: SolverSettings::default(),
         }
     }
+}
+
+/// Acceleration of gravity a new world starts with (m/s²).
+pub const DEFAULT_GRAVITY: Vec3 = Vec3::new(0.0, -9.81, 0.0);
+
+/// How often an implicit solver stopped above its tolerance during a run.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SolverStats {
+    /// Steps whose solve ended at its iteration limit above the tolerance.
+    pub unconverged_steps: u64,
+    /// The first such step and its final relative residual.
+    pub first_unconverged: Option<(u64, Real)>,
 }
 
 /// A simulated world.
@@ -61,15 +73,14 @@ pub struct World {
     pub springs: Springs,
     /// The bodies, in the order they were added.
     pub bodies: Vec<Body>,
-    /// Wind on every surface, if any.
-    pub wind: Option<Wind>,
-    /// The user's hand: a spring from a grabbed particle to the cursor.
-    pub mouse: Option<MouseSpring>,
-    /// Any other forces, added after the built-in ones.
-    pub forces: Vec<Box<dyn Force>>,
+    /// Every force acting on the particles: a new world has gravity
+    /// ([`DEFAULT_GRAVITY`]), the springs, the gas pressure and the penalty
+    /// contacts of the colliders; wind, drag, the hand and any other force
+    /// are added to it.
+    pub forces: ForceList,
     /// Colliders the particles must stay out of.
     pub colliders: Vec<Collider>,
-    /// Gravity, drag and blow-up limits.
+    /// Blow-up limits and solver tolerances.
     pub settings: Settings,
     integrator: Box<dyn Integrator>,
     time: Real,
@@ -77,25 +88,67 @@ pub struct World {
     /// exact duration (20 000 steps of 2.5e-4 s make 5 s, not 5.000000000000365 s).
     time_compensation: Real,
     steps: u64,
+    last_report: StepReport,
+    solver_stats: SolverStats,
 }
 
 impl World {
     /// An empty world with default settings, stepped by `integrator`.
     pub fn new(integrator: IntegratorKind) -> Self {
+        let mut forces = ForceList::new();
+        forces.set(Gravity {
+            acceleration: DEFAULT_GRAVITY,
+        });
+        forces.set(SpringForce::new());
+        forces.set(GasPressure);
+        forces.set(PenaltyContacts::new());
         World {
             particles: Particles::default(),
             springs: Springs::default(),
             bodies: Vec::new(),
-            wind: None,
-            mouse: None,
-            forces: Vec::new(),
+            forces,
             colliders: Vec::new(),
             settings: Settings::default(),
             integrator: integrator.create(),
             time: 0.0,
             time_compensation: 0.0,
             steps: 0,
+            last_report: StepReport::default(),
+            solver_stats: SolverStats::default(),
         }
+    }
+
+    /// Acceleration of gravity (m/s²): that of the [`Gravity`] force in the
+    /// list, zero without one.
+    pub fn gravity(&self) -> Vec3 {
+        self.forces
+            .get::<Gravity>()
+            .map_or(Vec3::ZERO, |g| g.acceleration)
+    }
+
+    /// Set the acceleration of gravity (m/s²).
+    pub fn set_gravity(&mut self, acceleration: Vec3) {
+        self.forces.set(Gravity { acceleration });
+    }
+
+    /// Set the global air drag coefficient `c_air` (N·s/m); 0 removes it.
+    pub fn set_air_drag(&mut self, coefficient: Real) {
+        if coefficient == 0.0 {
+            self.forces.remove::<AirDrag>();
+        } else {
+            self.forces.set(AirDrag { coefficient });
+        }
+    }
+
+    /// What the last step's integrator reported (iterations and residual of
+    /// an implicit solve).
+    pub fn last_step_report(&self) -> StepReport {
+        self.last_report
+    }
+
+    /// How often the implicit solver stopped above its tolerance so far.
+    pub fn solver_stats(&self) -> SolverStats {
+        self.solver_stats
     }
 
     /// Simulated time (s).
@@ -169,22 +222,44 @@ impl World {
     }
 
     /// Advance the world by `dt` (s): integrate, collide, then check that the
-    /// state is still finite and within the limits of [`Settings`].
-    pub fn step(&mut self, dt: Real) -> Result<(), StepError> {
+    /// state is still finite and within the limits of [`Settings`]. Returns
+    /// what the integrator reported (also kept in
+    /// [`World::last_step_report`]); a solve that stopped above its
+    /// tolerance is counted in [`World::solver_stats`].
+    pub fn step(&mut self, dt: Real) -> Result<StepReport, StepError> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(StepError::InvalidTimeStep { dt });
         }
-        self.integrate(dt);
+        self.settings
+            .solver
+            .validate()
+            .map_err(StepError::InvalidSettings)?;
+        let report = self.integrate(dt)?;
         self.advance_time(dt);
         self.collide();
         self.steps += 1;
-        self.guard(dt)
+        self.last_report = report;
+        if report.unconverged {
+            let stats = &mut self.solver_stats;
+            stats.unconverged_steps += 1;
+            if stats.first_unconverged.is_none() {
+                stats.first_unconverged = Some((self.steps, report.residual.unwrap_or(Real::NAN)));
+            }
+        }
+        self.guard(dt)?;
+        Ok(report)
     }
 
-    fn integrate(&mut self, dt: Real) {
-        let time = self.time;
+    fn integrate(&mut self, dt: Real) -> Result<StepReport, StepError> {
+        let (time, steps, solver) = (self.time, self.steps, self.settings.solver);
         let (mut dynamics, position, velocity, integrator) = self.split();
-        integrator.step(time, dt, position, velocity, &mut dynamics);
+        integrator
+            .step(time, dt, position, velocity, &mut dynamics, &solver)
+            .map_err(|source| StepError::Solver {
+                step: steps + 1,
+                time,
+                source,
+            })
     }
 
     /// Split the world into its derivative function and the state the
@@ -193,21 +268,19 @@ impl World {
         let Particles {
             position,
             velocity,
-            force,
             mass,
             inverse_mass,
+            ..
         } = &mut self.particles;
         let dynamics = Dynamics {
-            settings: &self.settings,
-            wind: self.wind.as_mut(),
-            mouse: self.mouse.as_mut(),
             forces: &mut self.forces,
-            colliders: &self.colliders,
-            springs: &self.springs,
-            bodies: &self.bodies,
-            mass,
-            inverse_mass,
-            force,
+            frame: Frame {
+                colliders: &self.colliders,
+                springs: &self.springs,
+                bodies: &self.bodies,
+                mass,
+                inverse_mass,
+            },
         };
         (dynamics, position, velocity, self.integrator.as_mut())
     }
@@ -281,30 +354,38 @@ impl World {
     /// Evaluate every force at the current state into `particles.force` (N).
     pub fn evaluate_forces(&mut self) {
         let time = self.time;
+        let mut force = std::mem::take(&mut self.particles.force);
         let (mut dynamics, position, velocity, _) = self.split();
-        dynamics.accumulate_forces(time, position, velocity);
+        dynamics.force(time, position, velocity, &mut force);
+        self.particles.force = force;
     }
 
-    /// Every energy term at the current state (J).
+    /// Every energy term at the current state (J): kinetic, and the
+    /// potential of every force in the list.
     pub fn energies(&self) -> Energies {
-        let context = self.context();
         let mut energies = Energies {
             kinetic: measure::kinetic_energy(&self.particles),
             ..Energies::default()
         };
-        Gravity {
-            acceleration: self.settings.gravity,
-        }
-        .add_energy(&context, &mut energies);
-        SpringForce.add_energy(&context, &mut energies);
-        GasPressure.add_energy(&context, &mut energies);
-        for force in &self.forces {
-            force.add_energy(&context, &mut energies);
-        }
-        energies.contact = self.colliders.iter().fold(0.0, |sum, c| {
-            sum + c.contact_energy(self.time, &self.particles.position)
-        });
+        self.forces.add_energy(&self.force_context(), &mut energies);
         energies
+    }
+
+    /// The context forces see at the world's current state, to evaluate one
+    /// force on its own.
+    pub fn force_context(&self) -> ForceContext<'_> {
+        let frame = Frame {
+            colliders: &self.colliders,
+            springs: &self.springs,
+            bodies: &self.bodies,
+            mass: &self.particles.mass,
+            inverse_mass: &self.particles.inverse_mass,
+        };
+        frame.context(
+            self.time,
+            &self.particles.position,
+            &self.particles.velocity,
+        )
     }
 
     /// Exact enclosed volume (m³), or area for a 2D body (m²), of body
@@ -335,17 +416,6 @@ impl World {
     pub fn stable_time_step(&self) -> Real {
         measure::stable_time_step(&self.particles, &self.springs, &self.colliders)
     }
-
-    fn context(&self) -> ForceContext<'_> {
-        ForceContext {
-            time: self.time,
-            position: &self.particles.position,
-            velocity: &self.particles.velocity,
-            mass: &self.particles.mass,
-            springs: &self.springs,
-            bodies: &self.bodies,
-        }
-    }
 }
 
 /// Turn a closed body's faces (or segments) around if they enclose a
@@ -357,74 +427,83 @@ fn orient_outward(body: &mut Body, position: &[Vec3]) {
     }
 }
 
-/// The world's derivative function: stages 1 and 2 of the step, then
-/// `a = f / m`. Integrators call it at every trial state they need.
-pub struct Dynamics<'a> {
-    settings: &'a Settings,
-    wind: Option<&'a mut Wind>,
-    mouse: Option<&'a mut MouseSpring>,
-    forces: &'a mut [Box<dyn Force>],
+/// The parts of a world that every force reads, besides the state.
+#[derive(Debug, Clone, Copy)]
+struct Frame<'a> {
     colliders: &'a [Collider],
     springs: &'a Springs,
     bodies: &'a [Body],
     mass: &'a [Real],
     inverse_mass: &'a [Real],
-    force: &'a mut Vec<Vec3>,
 }
 
-impl Dynamics<'_> {
-    /// Clear the force buffer, then add every force at the trial state.
-    fn accumulate_forces(&mut self, time: Real, position: &[Vec3], velocity: &[Vec3]) {
-        self.force.fill(Vec3::ZERO);
-        let context = ForceContext {
+impl<'a> Frame<'a> {
+    /// The force context at `time` and the state `(position, velocity)`.
+    fn context<'s>(
+        &self,
+        time: Real,
+        position: &'s [Vec3],
+        velocity: &'s [Vec3],
+    ) -> ForceContext<'s>
+    where
+        'a: 's,
+    {
+        ForceContext {
             time,
             position,
             velocity,
             mass: self.mass,
             springs: self.springs,
             bodies: self.bodies,
-        };
-        let force = self.force.as_mut_slice();
-        Gravity {
-            acceleration: self.settings.gravity,
-        }
-        .accumulate(&context, force);
-        SpringForce.accumulate(&context, force);
-        GasPressure.accumulate(&context, force);
-        AirDrag {
-            coefficient: self.settings.air_drag,
-        }
-        .accumulate(&context, force);
-        if let Some(wind) = self.wind.as_deref_mut() {
-            wind.accumulate(&context, force);
-        }
-        if let Some(mouse) = self.mouse.as_deref_mut() {
-            mouse.accumulate(&context, force);
-        }
-        for extra in self.forces.iter_mut() {
-            extra.accumulate(&context, force);
-        }
-        for collider in self.colliders {
-            collide::penalty_force(collider, time, position, velocity, force);
+            colliders: self.colliders,
         }
     }
 }
 
+/// The world's derivative function: the forces of the list at a trial
+/// state, the masses, and the Jacobian products for the implicit
+/// integrators. Integrators call it at every trial state they need.
+pub struct Dynamics<'a> {
+    forces: &'a mut ForceList,
+    frame: Frame<'a>,
+}
+
 impl Derivative for Dynamics<'_> {
-    fn acceleration(
-        &mut self,
-        time: Real,
-        position: &[Vec3],
-        velocity: &[Vec3],
-        acceleration: &mut [Vec3],
-    ) {
-        self.accumulate_forces(time, position, velocity);
-        for ((a, f), &w) in acceleration
-            .iter_mut()
-            .zip(self.force.iter())
-            .zip(self.inverse_mass)
-        {
-            *a = *f * w;
-        }
+    fn mass(&self) -> &[Real] {
+        self.frame.mass
+    }
+
+    fn inverse_mass(&self) -> &[Real] {
+        self.frame.inverse_mass
+    }
+
+    fn springs(&self) -> &Springs {
+        self.frame.springs
+    }
+
+    fn force(&mut self, time: Real, position: &[Vec3], velocity: &[Vec3], force: &mut [Vec3]) {
+        let context = self.frame.context(time, position, velocity);
+        self.forces.accumulate(&context, force);
+    }
+
+    fn linearize(&mut self, state: State) -> Linearization {
+        let context = self
+            .frame
+            .context(state.time, state.position, state.velocity);
+        self.forces.linearize(&context)
+    }
+
+    fn jacobian_products(&self, state: State, scale: JacobianScale, p: &[Vec3], out: &mut [Vec3]) {
+        let context = self
+            .frame
+            .context(state.time, state.position, state.velocity);
+        self.forces.jacobian_products(&context, scale, p, out);
+    }
+
+    fn jacobian_diagonal(&self, state: State, scale: JacobianScale, diagonal: &mut [Vec3]) {
+        let context = self
+            .frame
+            .context(state.time, state.position, state.velocity);
+        self.forces.jacobian_diagonal(&context, scale, diagonal);
     }
 }

@@ -24,7 +24,7 @@ fn analytical_stable_dt() -> Real {
 /// A stiff hanging rope of [`FREE`] masses, with `gravity`.
 fn stiff_rope(kind: IntegratorKind, gravity: Vec3) -> World {
     let mut world = World::new(kind);
-    world.settings.gravity = gravity;
+    world.set_gravity(gravity);
     world
         .add_body("rope", rope(FREE, MASS, STIFFNESS, SPACING))
         .expect("valid rope");

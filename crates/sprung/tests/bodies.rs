@@ -404,7 +404,7 @@ fn dropped_lattice_height(only_edges: bool) -> (Real, Real) {
         .placed(1.0, Vec3::ZERO, Vec3::new(0.0, 0.3, 0.0))
         .with_velocity(Vec3::new(1.0, 0.0, 0.0));
     let mut world = World::new(IntegratorKind::SymplecticEuler);
-    world.settings.air_drag = 0.01;
+    world.set_air_drag(0.01);
     let floor = Shape::plane(Vec3::ZERO, Vec3::Y).expect("valid plane");
     let response = ContactResponse::Projection {
         restitution: 0.0,

@@ -20,7 +20,7 @@ const SPACING: Real = 0.1; // m
 fn settled_stretches(one_sided: bool) -> Vec<Real> {
     let body = rope(FREE, MASS, STIFFNESS, SPACING).with_one_sided(one_sided);
     let mut world = World::new(IntegratorKind::SymplecticEuler);
-    world.settings.gravity = Vec3::new(0.0, -G, 0.0);
+    world.set_gravity(Vec3::new(0.0, -G, 0.0));
     // Air drag damps every mode without moving the equilibrium (v = 0).
     // Two-sided springs: the slowest mode of a fixed-free chain of N masses
     // has ω₁ = 2 √(k/m) sin(π / (2 (2N + 1))) ≈ 15 rad/s; drag c = 2 m ω₁
@@ -37,7 +37,7 @@ fn settled_stretches(one_sided: bool) -> Vec<Real> {
     } else {
         2.0 * (STIFFNESS / MASS).sqrt() * (PI / (2.0 * (2 * FREE + 1) as Real)).sin()
     };
-    world.settings.air_drag = 2.0 * MASS * omega;
+    world.set_air_drag(2.0 * MASS * omega);
     world.add_body("rope", body).expect("valid rope");
     // dt = 1 ms is a tenth of the stable step 1/√(k/m) = 10 ms. After 4 s the
     // initial offset (the total sag, ~0.05 m) has decayed by at least

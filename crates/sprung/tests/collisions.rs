@@ -19,7 +19,7 @@ fn particle_over_floor(
     response: ContactResponse,
 ) -> World {
     let mut world = World::new(kind);
-    world.settings.gravity = Vec3::new(0.0, -G, 0.0);
+    world.set_gravity(Vec3::new(0.0, -G, 0.0));
     let floor = Shape::plane(Vec3::ZERO, Vec3::Y).expect("valid plane");
     world
         .colliders
@@ -204,7 +204,7 @@ fn penalty_friction_decelerates_a_slide_at_mu_g() {
     let depth = mass * g / stiffness;
     let sliding = |friction: Real| {
         let mut world = World::new(IntegratorKind::SymplecticEuler);
-        world.settings.gravity = Vec3::new(0.0, -g, 0.0);
+        world.set_gravity(Vec3::new(0.0, -g, 0.0));
         let point = BodyData::from_positions(vec![Vec3::new(0.0, -depth, 0.0)])
             .with_mass(mass)
             .with_velocity(Vec3::new(2.0, 0.0, 0.0));

@@ -23,7 +23,7 @@ fn springs_only(kind: IntegratorKind, body: BodyData, seed: u64) -> World {
         .map(|_| drift + rng.vector(1.0))
         .collect();
     let mut world = World::new(kind);
-    world.settings.gravity = Vec3::ZERO;
+    world.set_gravity(Vec3::ZERO);
     world.add_body("body", body).expect("valid body");
     world
 }
@@ -113,7 +113,7 @@ fn one_sided_springs_do_not_conserve_momentum() {
             ..SpringData::between(0, 1)
         });
         let mut world = World::new(IntegratorKind::SymplecticEuler);
-        world.settings.gravity = Vec3::ZERO;
+        world.set_gravity(Vec3::ZERO);
         world.add_body("pair", body).expect("valid pair");
         world.step(dt).expect("stable");
         let expected = if one_sided {

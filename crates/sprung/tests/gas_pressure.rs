@@ -19,7 +19,7 @@ use std::f64::consts::PI;
 
 use common::Rng;
 use sprung::build::{self, SurfaceSprings};
-use sprung::forces::{Force, ForceContext, GasPressure};
+use sprung::forces::{Force, GasPressure};
 use sprung::{
     BodyData, BuildError, Collider, ContactResponse, Gas, IntegratorKind, Real, Shape, Vec3, World,
 };
@@ -130,7 +130,7 @@ impl Ring {
 /// A world without gravity holding `body` as body 0.
 fn weightless(kind: IntegratorKind, body: BodyData) -> World {
     let mut world = World::new(kind);
-    world.settings.gravity = Vec3::ZERO;
+    world.set_gravity(Vec3::ZERO);
     world.add_body("body", body).expect("valid body");
     world
 }
@@ -155,14 +155,7 @@ fn radii(world: &World) -> Vec<Real> {
 
 /// The gas pressure force alone at the world's state (N per particle).
 fn gas_force(world: &World) -> Vec<Vec3> {
-    let context = ForceContext {
-        time: world.time(),
-        position: &world.particles.position,
-        velocity: &world.particles.velocity,
-        mass: &world.particles.mass,
-        springs: &world.springs,
-        bodies: &world.bodies,
-    };
+    let context = world.force_context();
     let mut force = vec![Vec3::ZERO; world.particles.len()];
     GasPressure.accumulate(&context, &mut force);
     force
@@ -553,10 +546,10 @@ fn undamped_pressurised_ball_conserves_energy_within_the_integrators_band() {
             .with_stiffness(stiffness);
         ball.gas = Some(Gas::new(nrt, 0.0));
         let mut world = weightless(kind, ball);
-        world.settings.air_drag = 2.0 * mass * 20.0;
+        world.set_air_drag(2.0 * mass * 20.0);
         let dt = 0.25 * world.stable_time_step();
         run_until(&mut world, dt, 2.0);
-        world.settings.air_drag = 0.0;
+        world.set_air_drag(0.0);
         let residual = world.energies().kinetic;
 
         let mut rng = Rng::new(17);
@@ -638,7 +631,7 @@ fn dropped_ring(gas: Option<Gas>, duration: Real) -> (Real, Real) {
         .body(1.0, gas)
         .placed(1.0, Vec3::ZERO, Vec3::new(0.0, 1.3, 0.0));
     let mut world = World::new(IntegratorKind::SymplecticEuler);
-    world.settings.air_drag = 0.5;
+    world.set_air_drag(0.5);
     let floor = Shape::plane(Vec3::ZERO, Vec3::Y).expect("valid plane");
     let response = ContactResponse::Projection {
         restitution: 0.0,

@@ -33,7 +33,7 @@ fn assert_close(value: Real, expected: Real, relative: Real, what: &str) {
 /// A world (no gravity) holding `body` as body 0.
 fn world_with(body: BodyData) -> World {
     let mut world = World::new(IntegratorKind::SymplecticEuler);
-    world.settings.gravity = Vec3::ZERO;
+    world.set_gravity(Vec3::ZERO);
     world.add_body("body", body).expect("valid body");
     world
 }

@@ -33,7 +33,7 @@ fn particles_and(
     collider: Collider,
 ) -> World {
     let mut world = World::new(kind);
-    world.settings.gravity = gravity;
+    world.set_gravity(gravity);
     world.colliders.push(collider);
     let mut body = BodyData::from_positions(position).with_mass(mass);
     body.velocity = velocity;
@@ -876,7 +876,7 @@ fn cloth_over_sphere(response: ContactResponse) -> World {
     }
     let mut world = World::new(IntegratorKind::SymplecticEuler);
     let mass = body.mass[0];
-    world.settings.air_drag = 5.0 * mass;
+    world.set_air_drag(5.0 * mass);
     world
         .colliders
         .push(Collider::new(sphere(Vec3::ZERO, BALL_RADIUS), response).expect("valid response"));

@@ -37,7 +37,7 @@ const FORCE_TOLERANCE: Real = 1e-9;
 /// (from `field`, through `model`) as its one extra force.
 fn windy_world(kind: IntegratorKind, body: BodyData, field: WindField, model: WindModel) -> World {
     let mut world = World::new(kind);
-    world.settings.gravity = Vec3::ZERO;
+    world.set_gravity(Vec3::ZERO);
     world.add_body("patch", body).expect("valid body");
     let wind = Wind::new(field, model).expect("valid wind model");
     world.forces.push(Box::new(wind));
@@ -537,7 +537,7 @@ fn billowing_sheet(air_density: Real, speed: Real, duration: Real) -> Sheet {
             lift: 0.0,
         },
     );
-    world.settings.air_drag = 0.025;
+    world.set_air_drag(0.025);
     let dt = 0.9 * world.stable_time_step();
     let steps = (duration / dt).round() as usize;
     let last_second = (1.0 / dt).round() as usize;
@@ -805,7 +805,7 @@ fn gusty_run(seed: u64) -> Vec<Vec3> {
         lift: 0.3,
     };
     let mut world = windy_world(IntegratorKind::SymplecticEuler, cloth, field, model);
-    world.settings.gravity = Vec3::new(0.0, -9.81, 0.0);
+    world.set_gravity(Vec3::new(0.0, -9.81, 0.0));
     let dt = 0.5 * world.stable_time_step();
     for _ in 0..(1.0 / dt).round() as usize {
         world.step(dt).expect("stable");
@@ -1019,7 +1019,7 @@ fn a_body_at_half_scale_feels_half_the_force() {
     let w = 5.0 * n + 2.0 * e1;
     for model in [SIMPLE, AREA] {
         let mut world = World::new(IntegratorKind::SymplecticEuler);
-        world.settings.gravity = Vec3::ZERO;
+        world.set_gravity(Vec3::ZERO);
         world.add_body("full", triangle(1.0)).expect("valid body");
         let shifted = triangle(1.0).placed(1.0, Vec3::ZERO, Vec3::new(4.0, 0.0, 0.0));
         world.add_body("half", shifted).expect("valid body");

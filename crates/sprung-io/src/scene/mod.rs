@@ -139,7 +139,7 @@ pub fn parse_scene_with(
                 })?;
             }
         }
-        world.wind = Some(wind);
+        world.forces.set(wind);
     } else if let Some(body) = file.body.iter().find(|b| b.get_ref().wind_scale.is_some()) {
         let message = format!(
             "body \"{}\": `wind_scale` needs a `[wind]` table",
@@ -213,9 +213,8 @@ fn timing(sim: &SimTable) -> Result<(IntegratorKind, Real, u64), KeyError> {
 }
 
 fn apply_settings(world: &mut World, sim: &SimTable) -> Result<(), KeyError> {
-    let settings = &mut world.settings;
     if let Some(g) = &sim.gravity {
-        settings.gravity = vector("gravity", g)?;
+        world.set_gravity(vector("gravity", g)?);
     }
     if let Some(c) = sim.air_drag {
         if !(c.is_finite() && c >= 0.0) {
@@ -224,8 +223,9 @@ fn apply_settings(world: &mut World, sim: &SimTable) -> Result<(), KeyError> {
                 format!("`air_drag` = {c}: must be finite and not negative (N·s/m)"),
             ));
         }
-        settings.air_drag = c;
+        world.set_air_drag(c);
     }
+    let settings = &mut world.settings;
     if let Some(d) = sim.max_distance {
         settings.max_distance = positive("max_distance", d, "must be positive (m)")?;
     }

@@ -1,6 +1,7 @@
 //! Global air drag: `f_i -= c_air v_i` (PHYSICS.md §1).
 
-use super::{Force, ForceContext};
+use super::{Force, ForceContext, JacobianScale, Linearization};
+use crate::measure::Energies;
 use crate::{Real, Vec3};
 
 /// Linear drag on every particle against its velocity.
@@ -21,6 +22,39 @@ impl Force for AirDrag {
         }
         for (f, v) in force.iter_mut().zip(context.velocity) {
             *f -= self.coefficient * *v;
+        }
+    }
+
+    /// Dissipative: no potential energy.
+    fn add_energy(&self, _context: &ForceContext, _energies: &mut Energies) {}
+
+    /// `∂f/∂x = 0`, `∂f/∂v = -c_air I`, exactly.
+    fn linearize(&mut self, _context: &ForceContext) -> Linearization {
+        Linearization::Exact
+    }
+
+    fn add_jacobian_products(
+        &self,
+        _context: &ForceContext,
+        scale: JacobianScale,
+        p: &[Vec3],
+        out: &mut [Vec3],
+    ) {
+        let factor = -scale.velocity * self.coefficient;
+        for (o, p) in out.iter_mut().zip(p) {
+            *o += factor * *p;
+        }
+    }
+
+    fn add_jacobian_diagonal(
+        &self,
+        _context: &ForceContext,
+        scale: JacobianScale,
+        diagonal: &mut [Vec3],
+    ) {
+        let factor = -scale.velocity * self.coefficient;
+        for d in diagonal {
+            *d += Vec3::splat(factor);
         }
     }
 }

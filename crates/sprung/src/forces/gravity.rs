@@ -1,6 +1,6 @@
 //! Uniform gravity: `f_i += m_i g`, energy `E_g = -Σ m_i (g · x_i)`.
 
-use super::{Force, ForceContext};
+use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::measure::Energies;
 use crate::Vec3;
 
@@ -33,4 +33,20 @@ impl Force for Gravity {
             .map(|(x, &m)| m * self.acceleration.dot(*x))
             .sum::<f64>();
     }
+
+    /// Constant force: both Jacobians are exactly zero.
+    fn linearize(&mut self, _context: &ForceContext) -> Linearization {
+        Linearization::Exact
+    }
+
+    fn add_jacobian_products(
+        &self,
+        _: &ForceContext,
+        _: JacobianScale,
+        _: &[Vec3],
+        _: &mut [Vec3],
+    ) {
+    }
+
+    fn add_jacobian_diagonal(&self, _: &ForceContext, _: JacobianScale, _: &mut [Vec3]) {}
 }

@@ -1,24 +1,43 @@
-//! Forces: small types that add their contribution to the force buffer.
+//! Forces: small types that add their contribution to the force buffer, and
+//! their derivatives for the implicit solvers.
+//!
+//! Every force of a world lives in one [`ForceList`] (`World::forces`):
+//! gravity, the springs, the gas, air drag, wind, the user's hand, penalty
+//! contacts and anything a user adds. The explicit step, the energy, the
+//! implicit solvers and the threads all walk that list, so a force is
+//! written once and works everywhere.
 //!
 //! Each force sees the trial state through a [`ForceContext`] (integrators
 //! evaluate forces at intermediate states, so forces never read the world's
-//! stored positions directly) and adds into `force`. Conservative forces also
-//! report their potential energy.
+//! stored positions directly) and
 //!
-//! To add a force: write a type implementing [`Force`] in its own file here,
-//! and push it onto `World::forces` (or, for a built-in one driven by
-//! `Settings`, call it from `world::Dynamics`).
+//! - adds its force (N) into a buffer ([`Force::accumulate`]);
+//! - adds its potential energy (J) to the right term ([`Force::add_energy`]);
+//! - for the implicit solvers, linearises itself at a state
+//!   ([`Force::linearize`]) and then gives the products of its Jacobians
+//!   with any vector, `α ∂f/∂x·p + β ∂f/∂v·p` ([`Force::add_jacobian_products`]),
+//!   and the diagonal of those Jacobians ([`Force::add_jacobian_diagonal`])
+//!   for the preconditioner. None of these has a default: a force says how it
+//!   takes part in an implicit solve ([`Linearization`]), so none is left out
+//!   by accident.
+//!
+//! To add a force: a type implementing [`Force`] in its own file here, added
+//! with `world.forces.push(...)` (or [`ForceList::set`] for one of a kind).
 
+mod contact;
 mod drag;
 mod gravity;
+mod list;
 mod mouse;
 mod pressure;
 mod spring;
 mod wind;
 mod wind_field;
 
+pub use contact::PenaltyContacts;
 pub use drag::AirDrag;
 pub use gravity::Gravity;
+pub use list::ForceList;
 pub use mouse::MouseSpring;
 pub use pressure::{pressure, GasPressure};
 pub use spring::{spring_energy, SpringForce};
@@ -26,11 +45,12 @@ pub use wind::{Wind, WindModel, AIR_DENSITY};
 pub use wind_field::{Gusts, Turbulence, WindField};
 
 use crate::body::Body;
+use crate::collide::Collider;
 use crate::measure::Energies;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
 
-/// The state a force is evaluated at.
+/// The state a force is evaluated at, and the world it belongs to.
 #[derive(Debug, Clone, Copy)]
 pub struct ForceContext<'a> {
     /// Simulated time (s).
@@ -45,16 +65,73 @@ pub struct ForceContext<'a> {
     pub springs: &'a Springs,
     /// The world's bodies.
     pub bodies: &'a [Body],
+    /// The world's colliders (penalty contacts read them).
+    pub colliders: &'a [Collider],
+}
+
+/// The weights of a Jacobian product: `position ∂f/∂x·p + velocity ∂f/∂v·p`.
+///
+/// Implicit Euler's matrix `M - dt ∂f/∂v - dt² ∂f/∂x` takes the products
+/// with `position = dt²`, `velocity = dt` (and subtracts them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JacobianScale {
+    /// Weight of the position Jacobian `∂f/∂x` (N/m per unit of `p`).
+    pub position: Real,
+    /// Weight of the velocity Jacobian `∂f/∂v` (N·s/m per unit of `p`).
+    pub velocity: Real,
+}
+
+/// How a force takes part in an implicit solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Linearization {
+    /// Its Jacobian products are exact (gravity, drag, the hand).
+    Exact,
+    /// Its Jacobian products are a symmetric, definite approximation of the
+    /// exact ones (springs under compression, the curvature of a sphere
+    /// collider, friction left out): the linear solve converges, and more
+    /// Newton iterations still reach the exact backward-Euler solution
+    /// because the residual uses the exact force.
+    Approximate,
+    /// It has no Jacobian products: within one linearised step it acts with
+    /// its value at the start of the step (gas pressure, wind). Further
+    /// Newton iterations re-evaluate it.
+    Explicit,
 }
 
 /// A force acting on the particles.
-pub trait Force: Send + Sync + std::fmt::Debug {
+///
+/// `Any` lets a [`ForceList`] hand back a force of a given type
+/// ([`ForceList::get`]), so a user can reach the wind or the hand by type.
+pub trait Force: Send + Sync + std::fmt::Debug + std::any::Any {
     /// A short name for messages.
     fn name(&self) -> &'static str;
     /// Add this force (N) to `force`, one entry per particle. `&mut self`
     /// lets a force keep scratch buffers (per-particle normals, say) sized
     /// on first use, so a step allocates nothing.
     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]);
-    /// Add this force's potential energy (J) to the right term of `energies`.
-    fn add_energy(&self, _context: &ForceContext, _energies: &mut Energies) {}
+    /// Add this force's potential energy (J) to the right term of
+    /// `energies`; a force without a potential (drag, wind) adds nothing.
+    fn add_energy(&self, context: &ForceContext, energies: &mut Energies);
+    /// Prepare the Jacobians at the state of `context` (cache what the
+    /// products need) and say how exact they are.
+    fn linearize(&mut self, context: &ForceContext) -> Linearization;
+    /// Add `scale.position ∂f/∂x·p + scale.velocity ∂f/∂v·p` to `out`, one
+    /// entry per particle, with the Jacobians at the state of the last
+    /// [`Force::linearize`] (the same `context`).
+    fn add_jacobian_products(
+        &self,
+        context: &ForceContext,
+        scale: JacobianScale,
+        p: &[Vec3],
+        out: &mut [Vec3],
+    );
+    /// Add the diagonal entries of `scale.position ∂f/∂x + scale.velocity
+    /// ∂f/∂v` (the x, y, z entries of each particle's own 3×3 block) to
+    /// `diagonal`, at the state of the last [`Force::linearize`].
+    fn add_jacobian_diagonal(
+        &self,
+        context: &ForceContext,
+        scale: JacobianScale,
+        diagonal: &mut [Vec3],
+    );
 }

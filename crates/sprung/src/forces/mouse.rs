@@ -1,7 +1,8 @@
 //! The user's hand (PHYSICS.md §1, user forces): a damped spring between a
 //! grabbed particle and the cursor, so a person can drag and throw a body.
 
-use super::{Force, ForceContext};
+use super::{Force, ForceContext, JacobianScale, Linearization};
+use crate::measure::Energies;
 use crate::{Real, Vec3};
 
 /// A spring of zero rest length from particle `particle` to `target`:
@@ -31,5 +32,44 @@ impl Force for MouseSpring {
         ) {
             *f += self.stiffness * (self.target - x) - self.damping * v;
         }
+    }
+
+    /// The hand does work on the system: its spring is not counted as part
+    /// of the system's energy.
+    fn add_energy(&self, _context: &ForceContext, _energies: &mut Energies) {}
+
+    /// `∂f/∂x = -k I`, `∂f/∂v = -c I` on the grabbed particle, exactly.
+    fn linearize(&mut self, _context: &ForceContext) -> Linearization {
+        Linearization::Exact
+    }
+
+    fn add_jacobian_products(
+        &self,
+        _context: &ForceContext,
+        scale: JacobianScale,
+        p: &[Vec3],
+        out: &mut [Vec3],
+    ) {
+        if let (Some(o), Some(&p)) = (out.get_mut(self.particle), p.get(self.particle)) {
+            *o -= self.diagonal(scale) * p;
+        }
+    }
+
+    fn add_jacobian_diagonal(
+        &self,
+        _context: &ForceContext,
+        scale: JacobianScale,
+        diagonal: &mut [Vec3],
+    ) {
+        if let Some(d) = diagonal.get_mut(self.particle) {
+            *d -= Vec3::splat(self.diagonal(scale));
+        }
+    }
+}
+
+impl MouseSpring {
+    /// `α k + β c`: minus the scaled Jacobians' (isotropic) diagonal.
+    fn diagonal(&self, scale: JacobianScale) -> Real {
+        scale.position * self.stiffness + scale.velocity * self.damping
     }
 }

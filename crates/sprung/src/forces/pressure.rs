@@ -7,8 +7,14 @@
 //!
 //! The forces on a closed surface sum to zero (`Σ A n = 0` for a closed
 //! polyhedron or polygon), so the gas never moves the body's centre of mass.
+//!
+//! In the implicit solvers the pressure is [`Linearization::Explicit`]: its
+//! Jacobian couples every vertex with every other through the volume (a
+//! dense matrix), and the gas is soft next to the springs, so it acts with
+//! its value at the start of the step (further Newton iterations
+//! re-evaluate it).
 
-use super::{Force, ForceContext};
+use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::body::Body;
 use crate::measure::Energies;
 use crate::{Real, Vec3};
@@ -58,6 +64,23 @@ impl Force for GasPressure {
             }
         }
     }
+
+    fn linearize(&mut self, _context: &ForceContext) -> Linearization {
+        Linearization::Explicit
+    }
+
+    /// Explicit in the implicit solvers (see the module documentation).
+    fn add_jacobian_products(
+        &self,
+        _: &ForceContext,
+        _: JacobianScale,
+        _: &[Vec3],
+        _: &mut [Vec3],
+    ) {
+    }
+
+    /// Explicit in the implicit solvers (see the module documentation).
+    fn add_jacobian_diagonal(&self, _: &ForceContext, _: JacobianScale, _: &mut [Vec3]) {}
 }
 
 /// Pressure `nRT / V` of `body`'s gas at `position` and `time` (Pa, or N/m

@@ -18,8 +18,9 @@
 //! of depth). The sign of a normal does not matter: `n` appears twice.
 
 use super::wind_field::WindField;
-use super::{Force, ForceContext};
+use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::error::BuildError;
+use crate::measure::Energies;
 use crate::{Real, Vec3};
 
 /// Air density at sea level and 20 °C (kg/m³), the default of the area model.
@@ -201,4 +202,24 @@ impl Force for Wind {
             WindModel::Area { air_density, lift } => self.area(air_density, lift, context, force),
         }
     }
+
+    /// Wind does work on the system: no potential energy.
+    fn add_energy(&self, _context: &ForceContext, _energies: &mut Energies) {}
+
+    fn linearize(&mut self, _context: &ForceContext) -> Linearization {
+        Linearization::Explicit
+    }
+
+    /// Explicit in the implicit solvers (see the module documentation).
+    fn add_jacobian_products(
+        &self,
+        _: &ForceContext,
+        _: JacobianScale,
+        _: &[Vec3],
+        _: &mut [Vec3],
+    ) {
+    }
+
+    /// Explicit in the implicit solvers (see the module documentation).
+    fn add_jacobian_diagonal(&self, _: &ForceContext, _: JacobianScale, _: &mut [Vec3]) {}
 }

@@ -2,7 +2,8 @@
 //! energy on every oscillator and is unstable for stiff springs. Kept for
 //! teaching: it is the method that blows up.
 
-use super::{fit, Derivative, Integrator, IntegratorKind};
+use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
+use crate::error::SolverError;
 use crate::{Real, Vec3};
 
 /// Explicit Euler with its acceleration buffer.
@@ -23,7 +24,8 @@ impl Integrator for ExplicitEuler {
         position: &mut [Vec3],
         velocity: &mut [Vec3],
         system: &mut dyn Derivative,
-    ) {
+        _solver: &SolverSettings,
+    ) -> Result<StepReport, SolverError> {
         fit(&mut self.acceleration, position.len());
         system.acceleration(time, position, velocity, &mut self.acceleration);
         for ((x, v), a) in position
@@ -34,5 +36,6 @@ impl Integrator for ExplicitEuler {
             *x += *v * dt;
             *v += *a * dt;
         }
+        Ok(StepReport::default())
     }
 }

@@ -1,7 +1,8 @@
 //! Explicit midpoint method (RK2): evaluate the derivative at the half step
 //! reached by an Euler step, then take the full step with it. Order 2.
 
-use super::{fit, Derivative, Integrator, IntegratorKind};
+use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
+use crate::error::SolverError;
 use crate::{Real, Vec3};
 
 /// The midpoint method with its half-step buffers.
@@ -24,7 +25,8 @@ impl Integrator for Midpoint {
         position: &mut [Vec3],
         velocity: &mut [Vec3],
         system: &mut dyn Derivative,
-    ) {
+        _solver: &SolverSettings,
+    ) -> Result<StepReport, SolverError> {
         let n = position.len();
         fit(&mut self.acceleration, n);
         fit(&mut self.half_position, n);
@@ -45,5 +47,6 @@ impl Integrator for Midpoint {
             position[i] += self.half_velocity[i] * dt;
             velocity[i] += self.acceleration[i] * dt;
         }
+        Ok(StepReport::default())
     }
 }

@@ -1,31 +1,62 @@
 //! Time integrators (PHYSICS.md §6).
 //!
 //! An integrator advances positions and velocities by one time step, asking a
-//! [`Derivative`] for accelerations at whatever trial states it needs. It
-//! owns its scratch buffers, sized on first use, so a step allocates nothing.
-//! Pinned particles need no special case: their acceleration is zero and
-//! their velocity stays zero.
+//! [`Derivative`] for forces and accelerations at whatever trial states it
+//! needs, and, for the implicit ones, for the products of the forces'
+//! Jacobians with vectors. It owns its scratch buffers, sized on first use,
+//! so a step allocates nothing. Pinned particles (inverse mass 0) need no
+//! special case in the explicit methods: their acceleration is zero and
+//! their velocity stays zero; the implicit ones treat them as constraints of
+//! their linear solves.
 //!
 //! To add an integrator: a file here with a type implementing
 //! [`Integrator`], a variant of [`IntegratorKind`] with its scene name, and a
 //! line in [`IntegratorKind::create`].
 
 mod euler;
+mod implicit;
 mod midpoint;
 mod rk4;
 mod symplectic_euler;
 mod verlet;
 
 pub use euler::ExplicitEuler;
+pub use implicit::SolverSettings;
 pub use midpoint::Midpoint;
 pub use rk4::RungeKutta4;
 pub use symplectic_euler::SymplecticEuler;
 pub use verlet::Verlet;
 
+use crate::error::SolverError;
+use crate::forces::{JacobianScale, Linearization};
+use crate::springs::Springs;
 use crate::{Real, Vec3};
 
-/// The derivative function of the system: accelerations at a trial state.
+/// A state of the system: time, positions and velocities.
+#[derive(Debug, Clone, Copy)]
+pub struct State<'a> {
+    /// Simulated time (s).
+    pub time: Real,
+    /// Positions (m).
+    pub position: &'a [Vec3],
+    /// Velocities (m/s).
+    pub velocity: &'a [Vec3],
+}
+
+/// The system an integrator advances: its masses, and its forces and their
+/// Jacobians at trial states.
 pub trait Derivative {
+    /// Particle masses (kg).
+    fn mass(&self) -> &[Real];
+    /// Inverse masses (1/kg); 0 marks a pinned particle, which stays where
+    /// it is with zero velocity.
+    fn inverse_mass(&self) -> &[Real];
+    /// The springs (the projective solver builds its matrix from their
+    /// stiffnesses).
+    fn springs(&self) -> &Springs;
+    /// Write the total force `f(x, v, t)` (N) into `force`, one entry per
+    /// particle.
+    fn force(&mut self, time: Real, position: &[Vec3], velocity: &[Vec3], force: &mut [Vec3]);
     /// Write `a = f(x, v, t) / m` (m/s²) into `acceleration`, one entry per
     /// particle (zero for pinned particles).
     fn acceleration(
@@ -34,14 +65,44 @@ pub trait Derivative {
         position: &[Vec3],
         velocity: &[Vec3],
         acceleration: &mut [Vec3],
-    );
+    ) {
+        self.force(time, position, velocity, acceleration);
+        for (a, &w) in acceleration.iter_mut().zip(self.inverse_mass()) {
+            *a *= w;
+        }
+    }
+    /// Linearise every force at `state`; the least exact [`Linearization`].
+    fn linearize(&mut self, state: State) -> Linearization;
+    /// Set `out` to `scale.position ∂f/∂x·p + scale.velocity ∂f/∂v·p` (N
+    /// per unit of `p`), the Jacobians taken at `state`, which must be the
+    /// state of the last [`Derivative::linearize`].
+    fn jacobian_products(&self, state: State, scale: JacobianScale, p: &[Vec3], out: &mut [Vec3]);
+    /// Set `diagonal` to the diagonal of `scale.position ∂f/∂x +
+    /// scale.velocity ∂f/∂v` at `state` (as for the products).
+    fn jacobian_diagonal(&self, state: State, scale: JacobianScale, diagonal: &mut [Vec3]);
+}
+
+/// What one step of an integrator reports.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StepReport {
+    /// Iterations of the solver (conjugate-gradient iterations summed over
+    /// the Newton iterations for implicit Euler, local/global iterations for
+    /// the projective solver); `None` for the explicit methods.
+    pub iterations: Option<u32>,
+    /// The final relative residual of the linear solve (implicit Euler);
+    /// `None` where there is none.
+    pub residual: Option<Real>,
+    /// False when the solver stopped at its iteration limit above its
+    /// tolerance: the step was taken, but less accurately than asked.
+    pub unconverged: bool,
 }
 
 /// A time-stepping method.
 pub trait Integrator: Send + std::fmt::Debug {
     /// Which method this is.
     fn kind(&self) -> IntegratorKind;
-    /// Advance `position` (m) and `velocity` (m/s) from `time` by `dt` (s).
+    /// Advance `position` (m) and `velocity` (m/s) from `time` by `dt` (s),
+    /// the implicit methods with the tolerances of `solver`.
     fn step(
         &mut self,
         time: Real,
@@ -49,7 +110,8 @@ pub trait Integrator: Send + std::fmt::Debug {
         position: &mut [Vec3],
         velocity: &mut [Vec3],
         system: &mut dyn Derivative,
-    );
+        solver: &SolverSettings,
+    ) -> Result<StepReport, SolverError>;
 }
 
 /// The integrators a scene can name.
@@ -102,7 +164,9 @@ impl IntegratorKind {
         }
     }
 
-    /// Derivative evaluations per step (the cost of a step, in force passes).
+    /// Force evaluations per step of the explicit methods (the cost of a
+    /// step, in force passes); for the implicit ones it depends on the
+    /// iterations, and this gives the least, 1.
     pub fn evaluations_per_step(self) -> u32 {
         match self {
             IntegratorKind::Midpoint => 2,

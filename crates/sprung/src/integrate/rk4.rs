@@ -2,7 +2,8 @@
 //! weighted 1, 2, 2, 1. Order 4: the most accurate per step, at four times
 //! the cost of Euler.
 
-use super::{fit, Derivative, Integrator, IntegratorKind};
+use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
+use crate::error::SolverError;
 use crate::{Real, Vec3};
 
 /// RK4 with its stage buffers: the trial state, the stage acceleration and
@@ -28,7 +29,8 @@ impl Integrator for RungeKutta4 {
         position: &mut [Vec3],
         velocity: &mut [Vec3],
         system: &mut dyn Derivative,
-    ) {
+        _solver: &SolverSettings,
+    ) -> Result<StepReport, SolverError> {
         let n = position.len();
         for buffer in [
             &mut self.trial_position,
@@ -72,5 +74,6 @@ impl Integrator for RungeKutta4 {
             position[i] += sixth * self.sum_velocity[i];
             velocity[i] += sixth * self.sum_acceleration[i];
         }
+        Ok(StepReport::default())
     }
 }

@@ -1,7 +1,8 @@
 //! Semi-implicit (symplectic) Euler: `v += a dt; x += v dt`. Order 1, but
 //! symplectic: the energy error stays bounded instead of drifting.
 
-use super::{fit, Derivative, Integrator, IntegratorKind};
+use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
+use crate::error::SolverError;
 use crate::{Real, Vec3};
 
 /// Symplectic Euler with its acceleration buffer.
@@ -22,7 +23,8 @@ impl Integrator for SymplecticEuler {
         position: &mut [Vec3],
         velocity: &mut [Vec3],
         system: &mut dyn Derivative,
-    ) {
+        _solver: &SolverSettings,
+    ) -> Result<StepReport, SolverError> {
         fit(&mut self.acceleration, position.len());
         system.acceleration(time, position, velocity, &mut self.acceleration);
         for ((x, v), a) in position
@@ -33,5 +35,6 @@ impl Integrator for SymplecticEuler {
             *v += *a * dt;
             *x += *v * dt;
         }
+        Ok(StepReport::default())
     }
 }

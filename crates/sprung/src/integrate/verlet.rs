@@ -13,7 +13,8 @@
 //! the stored velocity is carried to that time, `v_{n+1} = v_n + a_n dt`
 //! (second-order accurate), so energy is measured at one instant.
 
-use super::{fit, Derivative, Integrator, IntegratorKind};
+use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
+use crate::error::SolverError;
 use crate::{Real, Vec3};
 
 /// Position Verlet with its previous positions and the state it last wrote.
@@ -59,7 +60,8 @@ impl Integrator for Verlet {
         position: &mut [Vec3],
         velocity: &mut [Vec3],
         system: &mut dyn Derivative,
-    ) {
+        _solver: &SolverSettings,
+    ) -> Result<StepReport, SolverError> {
         fit(&mut self.acceleration, position.len());
         system.acceleration(time, position, velocity, &mut self.acceleration);
         self.bootstrap(dt, position, velocity);
@@ -74,5 +76,6 @@ impl Integrator for Verlet {
             self.written_position[i] = position[i];
             self.written_velocity[i] = velocity[i];
         }
+        Ok(StepReport::default())
     }
 }

@@ -27,7 +27,7 @@ pub fn oscillator(
     v0: Real,
 ) -> World {
     let mut world = World::new(kind);
-    world.settings.gravity = Vec3::ZERO;
+    world.set_gravity(Vec3::ZERO);
     let mut body = BodyData::from_positions(vec![Vec3::ZERO, Vec3::new(REST + u0, 0.0, 0.0)])
         .with_mass(mass)
         .with_pinned(vec![0]);
@@ -91,7 +91,7 @@ pub fn fixed_fixed_chain(
     body.springs = (1..count).map(|i| SpringData::between(i - 1, i)).collect();
     let body = body.with_stiffness(stiffness);
     let mut world = World::new(kind);
-    world.settings.gravity = Vec3::ZERO;
+    world.set_gravity(Vec3::ZERO);
     world.add_body("chain", body).expect("valid chain");
     world
 }

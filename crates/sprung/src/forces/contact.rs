@@ -1,0 +1,122 @@
+//! Penalty contacts with the colliders (PHYSICS.md §5): the force of every
+//! collider with a [`ContactResponse::Penalty`] response, as one entry of
+//! the force list (projection colliders act in the step's collide stage
+//! instead).
+//!
+//! Jacobians, per particle inside a collider and pushed out by it:
+//! `∂f/∂x = -k_c n nᵀ`, `∂f/∂v = -c n nᵀ`. The turning of a sphere's normal
+//! (which would make the matrix indefinite inside) and the friction force
+//! are left out: [`Linearization::Approximate`].
+
+use super::{Force, ForceContext, JacobianScale, Linearization};
+use crate::collide::{self, ContactResponse};
+use crate::measure::Energies;
+use crate::{Real, Vec3};
+
+/// The penalty forces of the world's colliders (reads
+/// `ForceContext::colliders`).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PenaltyContacts {
+    /// The contacts pushing at the last linearisation.
+    active: Vec<ActiveContact>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct ActiveContact {
+    particle: usize,
+    normal: Vec3,
+    /// Penalty stiffness `k_c` (N/m).
+    stiffness: Real,
+    /// Penalty damping `c` along the normal (N·s/m).
+    damping: Real,
+}
+
+impl ActiveContact {
+    /// `α k_c + β c`: minus the scaled Jacobians along the normal.
+    fn weight(&self, scale: JacobianScale) -> Real {
+        scale.position * self.stiffness + scale.velocity * self.damping
+    }
+}
+
+impl PenaltyContacts {
+    /// Penalty contacts with nothing linearised yet.
+    pub fn new() -> Self {
+        PenaltyContacts::default()
+    }
+}
+
+impl Force for PenaltyContacts {
+    fn name(&self) -> &'static str {
+        "penalty contacts"
+    }
+
+    fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
+        for collider in context.colliders {
+            collide::penalty_force(
+                collider,
+                context.time,
+                context.position,
+                context.velocity,
+                force,
+            );
+        }
+    }
+
+    fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
+        energies.contact += context
+            .colliders
+            .iter()
+            .map(|c| c.contact_energy(context.time, context.position))
+            .sum::<Real>();
+    }
+
+    fn linearize(&mut self, context: &ForceContext) -> Linearization {
+        self.active.clear();
+        for collider in context.colliders {
+            let ContactResponse::Penalty {
+                stiffness, damping, ..
+            } = collider.response
+            else {
+                continue;
+            };
+            let shape = collider.shape_at(context.time);
+            let surface_velocity = collider.velocity_at(context.time);
+            for (particle, (&x, &v)) in context.position.iter().zip(context.velocity).enumerate() {
+                let (distance, normal) = shape.distance_and_normal(x);
+                let normal_speed = (v - surface_velocity).dot(normal);
+                if distance < 0.0 && -stiffness * distance - damping * normal_speed > 0.0 {
+                    self.active.push(ActiveContact {
+                        particle,
+                        normal,
+                        stiffness,
+                        damping,
+                    });
+                }
+            }
+        }
+        Linearization::Approximate
+    }
+
+    fn add_jacobian_products(
+        &self,
+        _context: &ForceContext,
+        scale: JacobianScale,
+        p: &[Vec3],
+        out: &mut [Vec3],
+    ) {
+        for c in &self.active {
+            out[c.particle] -= c.weight(scale) * c.normal.dot(p[c.particle]) * c.normal;
+        }
+    }
+
+    fn add_jacobian_diagonal(
+        &self,
+        _context: &ForceContext,
+        scale: JacobianScale,
+        diagonal: &mut [Vec3],
+    ) {
+        for c in &self.active {
+            diagonal[c.particle] -= c.weight(scale) * c.normal * c.normal;
+        }
+    }
+}

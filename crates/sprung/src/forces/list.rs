@@ -1,0 +1,136 @@
+//! The one list of forces of a world.
+
+use super::{Force, ForceContext, JacobianScale, Linearization};
+use crate::measure::Energies;
+use crate::Vec3;
+
+/// Every force acting in a world, in the order they are added.
+///
+/// The explicit step ([`ForceList::accumulate`]), the energy
+/// ([`ForceList::add_energy`]) and the implicit solvers
+/// ([`ForceList::linearize`] and the Jacobian products) all walk this list.
+/// Built-in forces are reached by type: `world.forces.get_mut::<Wind>()`;
+/// [`ForceList::set`] keeps at most one force of a type, [`ForceList::push`]
+/// adds any number.
+#[derive(Debug, Default)]
+pub struct ForceList {
+    forces: Vec<Box<dyn Force>>,
+}
+
+impl ForceList {
+    /// An empty list.
+    pub fn new() -> Self {
+        ForceList::default()
+    }
+
+    /// Add `force` at the end of the list (any number of one type).
+    pub fn push(&mut self, force: Box<dyn Force>) {
+        self.forces.push(force);
+    }
+
+    /// Put `force` in place of the first force of its type, or at the end
+    /// if there is none.
+    pub fn set<F: Force>(&mut self, force: F) {
+        match self.position::<F>() {
+            Some(index) => self.forces[index] = Box::new(force),
+            None => self.forces.push(Box::new(force)),
+        }
+    }
+
+    /// Take the first force of type `F` out of the list.
+    pub fn remove<F: Force>(&mut self) -> Option<F> {
+        let index = self.position::<F>()?;
+        let any: Box<dyn std::any::Any> = self.forces.remove(index);
+        any.downcast::<F>().ok().map(|force| *force)
+    }
+
+    /// Index of the first force of type `F`.
+    fn position<F: Force>(&self) -> Option<usize> {
+        self.forces
+            .iter()
+            .position(|force| (force.as_ref() as &dyn std::any::Any).is::<F>())
+    }
+
+    /// The first force of type `F`, if any.
+    pub fn get<F: Force>(&self) -> Option<&F> {
+        self.forces
+            .iter()
+            .find_map(|force| (force.as_ref() as &dyn std::any::Any).downcast_ref::<F>())
+    }
+
+    /// The first force of type `F`, if any, to change.
+    pub fn get_mut<F: Force>(&mut self) -> Option<&mut F> {
+        self.forces
+            .iter_mut()
+            .find_map(|force| (force.as_mut() as &mut dyn std::any::Any).downcast_mut::<F>())
+    }
+
+    /// The forces, in order.
+    pub fn iter(&self) -> impl Iterator<Item = &dyn Force> {
+        self.forces.iter().map(|force| force.as_ref())
+    }
+
+    /// Number of forces.
+    pub fn len(&self) -> usize {
+        self.forces.len()
+    }
+
+    /// True when the list is empty.
+    pub fn is_empty(&self) -> bool {
+        self.forces.is_empty()
+    }
+
+    /// Clear `force`, then add every force at the state of `context` (N).
+    pub fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
+        force.fill(Vec3::ZERO);
+        for f in &mut self.forces {
+            f.accumulate(context, force);
+        }
+    }
+
+    /// Add every force's potential energy at `context` to `energies` (J).
+    pub fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
+        for f in &self.forces {
+            f.add_energy(context, energies);
+        }
+    }
+
+    /// Linearise every force at `context`; the least exact
+    /// [`Linearization`] among them (`Exact` for an empty list).
+    pub fn linearize(&mut self, context: &ForceContext) -> Linearization {
+        self.forces
+            .iter_mut()
+            .map(|f| f.linearize(context))
+            .max()
+            .unwrap_or(Linearization::Exact)
+    }
+
+    /// Set `out` to the sum of every force's Jacobian products with `p`
+    /// (see [`Force::add_jacobian_products`]).
+    pub fn jacobian_products(
+        &self,
+        context: &ForceContext,
+        scale: JacobianScale,
+        p: &[Vec3],
+        out: &mut [Vec3],
+    ) {
+        out.fill(Vec3::ZERO);
+        for f in &self.forces {
+            f.add_jacobian_products(context, scale, p, out);
+        }
+    }
+
+    /// Set `diagonal` to the sum of every force's Jacobian diagonal (see
+    /// [`Force::add_jacobian_diagonal`]).
+    pub fn jacobian_diagonal(
+        &self,
+        context: &ForceContext,
+        scale: JacobianScale,
+        diagonal: &mut [Vec3],
+    ) {
+        diagonal.fill(Vec3::ZERO);
+        for f in &self.forces {
+            f.add_jacobian_diagonal(context, scale, diagonal);
+        }
+    }
+}

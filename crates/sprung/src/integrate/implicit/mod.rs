@@ -1,0 +1,73 @@
+//! The implicit integrators (PHYSICS.md §6): backward Euler, stable at time
+//! steps far beyond the explicit limit `2/ω_max`, solved two ways.
+//!
+//! - [`ImplicitEuler`]: Newton's method on the backward-Euler equations,
+//!   each linear solve by conjugate gradients preconditioned with the
+//!   diagonal (Baraff and Witkin, "Large steps in cloth simulation",
+//!   SIGGRAPH 1998). Every force of the world's list takes part through its
+//!   Jacobian products.
+//! - [`Projective`]: the local/global iterations of the fast mass-spring
+//!   solver (Liu, Bargteil, O'Brien and Kavan, SIGGRAPH Asia 2013), with the
+//!   constant matrix `M + dt² L` factored once by a sparse Cholesky
+//!   decomposition.
+
+use crate::error::BuildError;
+use crate::Real;
+
+/// The tolerances and iteration limits of the implicit integrators (the
+/// `[sim]` keys `solver_tolerance`, `max_iterations`, `newton_iterations`
+/// and `iterations`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverSettings {
+    /// Relative residual `|b - A x| / |b|` at which conjugate gradients stop
+    /// (implicit Euler). Default 1e-6.
+    pub tolerance: Real,
+    /// Most conjugate-gradient iterations per linear solve (implicit
+    /// Euler); reaching it above the tolerance is reported. Default 1000.
+    pub max_iterations: u32,
+    /// Newton iterations per step of implicit Euler. Default 1: the
+    /// linearised step of Baraff and Witkin; more iterate towards the exact
+    /// backward-Euler solution.
+    pub newton_iterations: u32,
+    /// Local/global iterations per step of the projective solver. Default 10.
+    pub iterations: u32,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        SolverSettings {
+            tolerance: 1e-6,
+            max_iterations: 1000,
+            newton_iterations: 1,
+            iterations: 10,
+        }
+    }
+}
+
+impl SolverSettings {
+    /// Check the settings: a positive, finite tolerance below 1 and at least
+    /// one iteration of each kind. Errors name the scene key.
+    pub fn validate(&self) -> Result<(), BuildError> {
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0 && self.tolerance < 1.0) {
+            return Err(BuildError::OutOfRange {
+                field: "solver_tolerance",
+                value: self.tolerance,
+                reason: "the relative residual to reach must be positive and below 1",
+            });
+        }
+        for (field, value) in [
+            ("max_iterations", self.max_iterations),
+            ("newton_iterations", self.newton_iterations),
+            ("iterations", self.iterations),
+        ] {
+            if value == 0 {
+                return Err(BuildError::OutOfRange {
+                    field,
+                    value: 0.0,
+                    reason: "must be at least 1",
+                });
+            }
+        }
+        Ok(())
+    }
+}
