@@ -123,14 +123,22 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
     record(&scene.world, &mut diagnostics)?;
     let progress = progress_bar(steps, options.quiet);
     for step in 1..=steps {
-        if let Err(error) = scene.world.step(scene.dt) {
-            progress.abandon();
-            diagnostics.finish().map_err(io)?;
-            let kept = format!(
-                "diagnostics up to the last good step are in {}",
-                out.join("diagnostics.csv").display()
-            );
-            return Err(CliError::BlowUp(error, kept));
+        match scene.world.step(scene.dt) {
+            Ok(report)
+                if report.unconverged && scene.world.solver_stats().unconverged_steps == 1 =>
+            {
+                progress.suspend(|| eprintln!("warning: {}", unconverged_warning(&scene)));
+            }
+            Ok(_) => {}
+            Err(error) => {
+                progress.abandon();
+                diagnostics.finish().map_err(io)?;
+                let kept = format!(
+                    "diagnostics up to the last good step are in {}",
+                    out.join("diagnostics.csv").display()
+                );
+                return Err(CliError::BlowUp(error, kept));
+            }
         }
         if step % every == 0 || step == steps {
             record(&scene.world, &mut diagnostics)?;
@@ -142,6 +150,13 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
     progress.finish_and_clear();
     let rows = diagnostics.rows();
     diagnostics.finish().map_err(io)?;
+    let unconverged = scene.world.solver_stats().unconverged_steps;
+    if unconverged > 0 {
+        eprintln!(
+            "warning: the {} solver stopped above its tolerance in {unconverged} of {steps} steps",
+            scene.world.integrator()
+        );
+    }
     if !options.quiet {
         println!(
             "{}: {steps} steps of {} s ({} s simulated, {}), {rows} rows{} in {}",
@@ -158,6 +173,24 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         );
     }
     Ok(())
+}
+
+/// The warning for the first step whose implicit solve stopped at its
+/// iteration limit above its tolerance.
+fn unconverged_warning(scene: &Scene) -> String {
+    let settings = scene.world.settings.solver;
+    let (step, residual) = scene
+        .world
+        .solver_stats()
+        .first_unconverged
+        .unwrap_or((scene.world.steps(), f64::NAN));
+    format!(
+        "step {step} (t = {:.6} s): the {} solver stopped after max_iterations = {} with a relative residual {residual:.3e}, above solver_tolerance = {:.1e}; the step was taken less accurately (raise `max_iterations` or `solver_tolerance` in [sim], or lower `dt`; warned once, counted at the end)",
+        scene.world.time(),
+        scene.world.integrator(),
+        settings.max_iterations,
+        settings.tolerance
+    )
 }
 
 /// `steps` (a count from a time divided by a step), refused above

@@ -93,6 +93,18 @@ pub const DEMOS: &[Demo] = &[
         every_integrator: false,
     },
     Demo {
+        name: "stiff_cloth",
+        about: "a stiff cloth in a gusty wind at dt = 1/60 s with implicit Euler (explicit needs 130 times smaller steps)",
+        text: include_str!("../../../scenes/stiff_cloth.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "firm_ball",
+        about: "a firm gas ball (stiff springs) bouncing on a floor at dt = 1/60 s with implicit Euler",
+        text: include_str!("../../../scenes/firm_ball.toml"),
+        every_integrator: false,
+    },
+    Demo {
         name: "cloth",
         about: "a cloth hanging from two corners",
         text: include_str!("../../../scenes/cloth.toml"),

@@ -17,11 +17,11 @@
 //!    [`StepError::BlowUp`].
 
 use crate::body::{Body, BodyData};
-use crate::collide::{self, Collider};
+use crate::collide::{self, Collider, ContactConstraint};
 use crate::error::{BlowUpReason, BuildError, StepError};
 use crate::forces::{
-    self, AirDrag, ForceContext, ForceList, GasPressure, Gravity, JacobianScale, Linearization,
-    PenaltyContacts, SpringForce,
+    self, AirDrag, ForceContext, ForceList, GasPressure, Gravity, JacobianScale, Jacobians,
+    Linearization, PenaltyContacts, SpringForce,
 };
 use crate::integrate::{Derivative, Integrator, IntegratorKind, SolverSettings, State, StepReport};
 use crate::measure::{self, Energies};
@@ -100,7 +100,7 @@ impl World {
             acceleration: DEFAULT_GRAVITY,
         });
         forces.set(SpringForce::new());
-        forces.set(GasPressure);
+        forces.set(GasPressure::new());
         forces.set(PenaltyContacts::new());
         World {
             particles: Particles::default(),
@@ -486,24 +486,54 @@ impl Derivative for Dynamics<'_> {
         self.forces.accumulate(&context, force);
     }
 
-    fn linearize(&mut self, state: State) -> Linearization {
-        let context = self
-            .frame
-            .context(state.time, state.position, state.velocity);
-        self.forces.linearize(&context)
+    fn contact_constraints(&self, state: State, dt: Real, out: &mut Vec<ContactConstraint>) {
+        out.clear();
+        for collider in self.frame.colliders {
+            collide::add_contact_constraints(
+                collider,
+                state.time + dt,
+                dt,
+                state.position,
+                state.velocity,
+                self.frame.inverse_mass,
+                out,
+            );
+        }
     }
 
-    fn jacobian_products(&self, state: State, scale: JacobianScale, p: &[Vec3], out: &mut [Vec3]) {
+    fn linearize(&mut self, state: State, which: Jacobians) -> Linearization {
         let context = self
             .frame
             .context(state.time, state.position, state.velocity);
-        self.forces.jacobian_products(&context, scale, p, out);
+        self.forces.linearize(&context, which)
     }
 
-    fn jacobian_diagonal(&self, state: State, scale: JacobianScale, diagonal: &mut [Vec3]) {
+    fn jacobian_products(
+        &self,
+        state: State,
+        which: Jacobians,
+        scale: JacobianScale,
+        p: &[Vec3],
+        out: &mut [Vec3],
+    ) {
         let context = self
             .frame
             .context(state.time, state.position, state.velocity);
-        self.forces.jacobian_diagonal(&context, scale, diagonal);
+        self.forces
+            .jacobian_products(&context, which, scale, p, out);
+    }
+
+    fn jacobian_diagonal(
+        &self,
+        state: State,
+        which: Jacobians,
+        scale: JacobianScale,
+        diagonal: &mut [Vec3],
+    ) {
+        let context = self
+            .frame
+            .context(state.time, state.position, state.velocity);
+        self.forces
+            .jacobian_diagonal(&context, which, scale, diagonal);
     }
 }

@@ -29,7 +29,12 @@ const OMEGA: Real = 10.0; // √(k/m), rad/s
 ///   `u⁺ = (2 - h²) u - u⁻`, so `cos θ = 1 - h²/2`, `θ ≈ h + h³/24`: the
 ///   period is *shorter* by `h²/24`;
 /// - midpoint: `R = 1 - ih - h²/2`, `arg R ≈ h + h³/6`: shorter by `h²/6`;
-/// - RK4: `R = e^{-ih} + O(h⁵)` with `arg R ≈ h - h⁵/120`: longer by `h⁴/120`.
+/// - RK4: `R = e^{-ih} + O(h⁵)` with `arg R ≈ h - h⁵/120`: longer by `h⁴/120`;
+/// - implicit Euler: `R = 1 / (1 + ih)`, `arg R = atan h`: longer by `h²/3`,
+///   like explicit Euler (the two are each other's time reverse). The
+///   projective solver is the same method, and on a spring moving along its
+///   axis its first iteration is already exact (the spring force plus
+///   `k x` is the constant `k L0`).
 ///
 /// These are within the bound each method's order predicts (`C hᵖ` with
 /// `p` = 1, 1, 2, 4, 2); for the two Euler methods the phase error is even
@@ -37,7 +42,9 @@ const OMEGA: Real = 10.0; // √(k/m), rad/s
 /// amplitude growth (Euler) or a bounded tilt of the orbit (symplectic).
 fn predicted_period_error(kind: IntegratorKind, h: Real) -> Real {
     match kind {
-        IntegratorKind::Euler => h * h / 3.0,
+        IntegratorKind::Euler | IntegratorKind::ImplicitEuler | IntegratorKind::Projective => {
+            h * h / 3.0
+        }
         IntegratorKind::SymplecticEuler | IntegratorKind::Verlet => -h * h / 24.0,
         IntegratorKind::Midpoint => -h * h / 6.0,
         IntegratorKind::Rk4 => h.powi(4) / 120.0,

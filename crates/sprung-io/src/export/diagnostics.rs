@@ -23,7 +23,9 @@ impl Diagnostics {
     /// (particle indices, which the caller has checked).
     pub fn create(path: &Path, world: &World, probes: &[usize]) -> io::Result<Self> {
         let mut file = AtomicFile::create(path)?;
-        let mut header = String::from("step,time,kinetic,spring,gravity,gas,total,contact");
+        let mut header = String::from(
+            "step,time,kinetic,spring,gravity,gas,total,contact,solver_iterations,solver_residual",
+        );
         for body in &world.bodies {
             for column in ["volume", "pressure", "cx", "cy", "cz"] {
                 header.push_str(&format!(",{}.{column}", body.name));
@@ -42,11 +44,15 @@ impl Diagnostics {
 
     /// Append a row for the world's current state. Volume (area in 2D) is
     /// left empty for bodies that are not closed, pressure for bodies
-    /// without a gas.
+    /// without a gas; the solver's iterations and residual (of the step
+    /// that led to this state) for the explicit integrators and the
+    /// starting row.
     pub fn record(&mut self, world: &World) -> io::Result<()> {
         let e = world.energies();
+        let optional = |value: Option<f64>| value.map(|v| v.to_string()).unwrap_or_default();
+        let report = world.last_step_report();
         let mut row = format!(
-            "{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{}",
             world.steps(),
             world.time(),
             e.kinetic,
@@ -54,9 +60,10 @@ impl Diagnostics {
             e.gravity,
             e.gas,
             e.total(),
-            e.contact
+            e.contact,
+            optional(report.iterations.map(f64::from)),
+            optional(report.residual),
         );
-        let optional = |value: Option<f64>| value.map(|v| v.to_string()).unwrap_or_default();
         for index in 0..world.bodies.len() {
             let c = world.centroid(index).unwrap_or_default();
             let (volume, pressure) = (

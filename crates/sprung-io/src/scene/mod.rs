@@ -16,6 +16,7 @@ pub use error::SceneError;
 
 use std::path::{Path, PathBuf};
 
+use sprung::integrate::SolverSettings;
 use sprung::{collide, Collider, ContactResponse, IntegratorKind, Real, Shape, Vec3, World};
 
 use error::{line_of, line_of_key};
@@ -107,6 +108,8 @@ pub fn parse_scene_with(
     let (integrator, dt, steps) = timing(sim).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
     let mut world = World::new(integrator);
     apply_settings(&mut world, sim).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
+    world.settings.solver =
+        solver_settings(sim, integrator).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
     let scene_dir = path.parent().unwrap_or(Path::new("."));
     for table in &file.body {
         let span = table.span();
@@ -233,6 +236,53 @@ fn apply_settings(world: &mut World, sim: &SimTable) -> Result<(), KeyError> {
         settings.max_speed = positive("max_speed", v, "must be positive (m/s)")?;
     }
     Ok(())
+}
+
+/// The implicit solvers' keys of `[sim]`: each belongs to the integrators
+/// that read it, and is refused with any other.
+fn solver_settings(sim: &SimTable, integrator: IntegratorKind) -> Result<SolverSettings, KeyError> {
+    use IntegratorKind::{ImplicitEuler, Projective};
+    let keys: [(&'static str, bool, &[IntegratorKind]); 4] = [
+        (
+            "solver_tolerance",
+            sim.solver_tolerance.is_some(),
+            &[ImplicitEuler],
+        ),
+        (
+            "max_iterations",
+            sim.max_iterations.is_some(),
+            &[ImplicitEuler],
+        ),
+        (
+            "newton_iterations",
+            sim.newton_iterations.is_some(),
+            &[ImplicitEuler],
+        ),
+        ("iterations", sim.iterations.is_some(), &[Projective]),
+    ];
+    for (key, given, readers) in keys {
+        if given && !readers.contains(&integrator) {
+            let names: Vec<_> = readers.iter().map(|k| k.name()).collect();
+            return Err((
+                key,
+                format!(
+                    "`{key}` is a setting of the {} integrator, but the scene's integrator is {integrator}",
+                    names.join(" and ")
+                ),
+            ));
+        }
+    }
+    let defaults = SolverSettings::default();
+    let settings = SolverSettings {
+        tolerance: sim.solver_tolerance.unwrap_or(defaults.tolerance),
+        max_iterations: sim.max_iterations.unwrap_or(defaults.max_iterations),
+        newton_iterations: sim.newton_iterations.unwrap_or(defaults.newton_iterations),
+        iterations: sim.iterations.unwrap_or(defaults.iterations),
+    };
+    settings
+        .validate()
+        .map_err(|e| (body::key_of(&e), e.to_string()))?;
+    Ok(settings)
 }
 
 fn collider(table: &ColliderTable) -> Result<Collider, KeyError> {

@@ -100,6 +100,18 @@ pub(crate) struct SimTable {
     /// Blow-up limit on speed (m/s).
     #[serde(default)]
     pub max_speed: Option<f64>,
+    /// Relative residual of implicit Euler's linear solves.
+    #[serde(default)]
+    pub solver_tolerance: Option<f64>,
+    /// Most conjugate-gradient iterations per solve (implicit Euler).
+    #[serde(default)]
+    pub max_iterations: Option<u32>,
+    /// Newton iterations per step (implicit Euler).
+    #[serde(default)]
+    pub newton_iterations: Option<u32>,
+    /// Local/global iterations per step (projective).
+    #[serde(default)]
+    pub iterations: Option<u32>,
 }
 
 /// `[[body]]`: one body, from a builder or given particle by particle.

@@ -27,9 +27,11 @@
 //! damping acts on the relative normal velocity. The path is prescribed: the
 //! particles do not push the collider back.
 
+mod constraint;
 mod path;
 mod response;
 
+pub use constraint::{add_contact_constraints, ContactConstraint};
 pub use path::Path;
 pub use response::{penalty_force, project, FRICTION_REGULARISATION};
 

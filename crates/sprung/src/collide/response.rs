@@ -2,6 +2,7 @@
 //! [`Shape`](super::Shape)'s signed distance and normal and the collider's
 //! surface velocity, so they serve every shape, static or moving.
 
+use super::constraint::coulomb;
 use super::{Collider, ContactResponse};
 use crate::{Real, Vec3};
 
@@ -46,13 +47,7 @@ pub fn project(
             continue;
         }
         let tangential = relative - normal_speed * normal;
-        let tangential_speed = tangential.length();
-        let slowdown = friction * (1.0 + restitution) * -normal_speed;
-        let kept = if tangential_speed > slowdown {
-            tangential * (1.0 - slowdown / tangential_speed)
-        } else {
-            Vec3::ZERO
-        };
+        let kept = coulomb(tangential, friction * (1.0 + restitution) * -normal_speed);
         velocity[i] = surface_velocity + kept - restitution * normal_speed * normal;
     }
 }

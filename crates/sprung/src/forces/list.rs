@@ -1,6 +1,6 @@
 //! The one list of forces of a world.
 
-use super::{Force, ForceContext, JacobianScale, Linearization};
+use super::{Force, ForceContext, JacobianScale, Jacobians, Linearization, SpringForce};
 use crate::measure::Energies;
 use crate::Vec3;
 
@@ -95,42 +95,58 @@ impl ForceList {
         }
     }
 
-    /// Linearise every force at `context`; the least exact
-    /// [`Linearization`] among them (`Exact` for an empty list).
-    pub fn linearize(&mut self, context: &ForceContext) -> Linearization {
+    /// The forces whose Jacobians `which` asks for.
+    fn linearized(&self, which: Jacobians) -> impl Iterator<Item = &dyn Force> {
+        self.forces
+            .iter()
+            .map(|f| f.as_ref())
+            .filter(move |f| asked_for(*f, which))
+    }
+
+    /// Linearise the forces `which` asks for at `context`; the least exact
+    /// [`Linearization`] among them (`Exact` for none).
+    pub fn linearize(&mut self, context: &ForceContext, which: Jacobians) -> Linearization {
         self.forces
             .iter_mut()
+            .filter(|f| asked_for(f.as_ref(), which))
             .map(|f| f.linearize(context))
             .max()
             .unwrap_or(Linearization::Exact)
     }
 
-    /// Set `out` to the sum of every force's Jacobian products with `p`
-    /// (see [`Force::add_jacobian_products`]).
+    /// Set `out` to the sum of the Jacobian products with `p` of the forces
+    /// `which` asks for (see [`Force::add_jacobian_products`]).
     pub fn jacobian_products(
         &self,
         context: &ForceContext,
+        which: Jacobians,
         scale: JacobianScale,
         p: &[Vec3],
         out: &mut [Vec3],
     ) {
         out.fill(Vec3::ZERO);
-        for f in &self.forces {
+        for f in self.linearized(which) {
             f.add_jacobian_products(context, scale, p, out);
         }
     }
 
-    /// Set `diagonal` to the sum of every force's Jacobian diagonal (see
-    /// [`Force::add_jacobian_diagonal`]).
+    /// Set `diagonal` to the sum of the Jacobian diagonals of the forces
+    /// `which` asks for (see [`Force::add_jacobian_diagonal`]).
     pub fn jacobian_diagonal(
         &self,
         context: &ForceContext,
+        which: Jacobians,
         scale: JacobianScale,
         diagonal: &mut [Vec3],
     ) {
         diagonal.fill(Vec3::ZERO);
-        for f in &self.forces {
+        for f in self.linearized(which) {
             f.add_jacobian_diagonal(context, scale, diagonal);
         }
     }
+}
+
+/// Whether `which` asks for the Jacobians of `force`.
+fn asked_for(force: &dyn Force, which: Jacobians) -> bool {
+    which == Jacobians::All || !(force as &dyn std::any::Any).is::<SpringForce>()
 }

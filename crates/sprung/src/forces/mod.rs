@@ -81,6 +81,16 @@ pub struct JacobianScale {
     pub velocity: Real,
 }
 
+/// Whose Jacobians a solver asks the force list for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Jacobians {
+    /// Every force's (implicit Euler).
+    All,
+    /// Every force's but the springs' (the projective solver stands in for
+    /// the springs with its constant matrix `M + dt² L`).
+    AllButSprings,
+}
+
 /// How a force takes part in an implicit solve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Linearization {

@@ -8,20 +8,64 @@
 //! The forces on a closed surface sum to zero (`Σ A n = 0` for a closed
 //! polyhedron or polygon), so the gas never moves the body's centre of mass.
 //!
-//! In the implicit solvers the pressure is [`Linearization::Explicit`]: its
-//! Jacobian couples every vertex with every other through the volume (a
-//! dense matrix), and the gas is soft next to the springs, so it acts with
-//! its value at the start of the step (further Newton iterations
-//! re-evaluate it).
+//! **Jacobian.** The force is `F_i = P ∂V/∂x_i` (the share above is
+//! exactly the volume's gradient `g_i`, times `P`), so
+//! `∂F/∂x = P ∂²V/∂x² - (nRT / V²) g gᵀ`. The second term, the stiffness of
+//! the gas against a change of volume, couples every vertex of the body
+//! with every other, but as a rank-one matrix its product costs one pass:
+//! `-(nRT/V²) g (g · p)`. It is negative definite along `g` (the gas resists
+//! being squashed) and is what keeps a ball stable when it is squashed at a
+//! large step. The first term (the turning of the faces) is indefinite and
+//! is left out: [`Linearization::Approximate`]. Bodies whose volume model
+//! is not the exact one give no Jacobian (their gas is explicit).
 
 use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::body::Body;
+use crate::gas::VolumeModel;
 use crate::measure::Energies;
 use crate::{Real, Vec3};
 
-/// The pressure of the gas in every body that has one.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct GasPressure;
+/// The pressure of the gas in every body that has one, with its volume
+/// stiffness cached at the last linearisation.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GasPressure {
+    /// Per particle, the gradient of its body's volume `∂V/∂x_i` (m², or m
+    /// in 2D) at the last linearisation; zero outside gas bodies.
+    gradient: Vec<Vec3>,
+    /// Per gas body with the exact volume model: its particles and
+    /// `nRT / V²` (J/m⁶, or J/m⁴ in 2D).
+    stiff: Vec<(std::ops::Range<usize>, Real)>,
+}
+
+impl GasPressure {
+    /// Gas pressure with nothing linearised yet.
+    pub fn new() -> Self {
+        GasPressure::default()
+    }
+}
+
+/// Add the gradient of `body`'s enclosed volume (area in 2D) with respect
+/// to each vertex, `∂V/∂x_i` (m², or m in 2D), times `scale`, to `out`.
+fn add_volume_gradient(body: &Body, x: &[Vec3], scale: Real, out: &mut [Vec3]) {
+    if body.is_planar() {
+        for &[a, b] in &body.segments {
+            let d = x[b as usize] - x[a as usize];
+            // l n = (Δy, -Δx) for a counter-clockwise loop.
+            let share = 0.5 * scale * Vec3::new(d.y, -d.x, 0.0);
+            out[a as usize] += share;
+            out[b as usize] += share;
+        }
+    } else {
+        for &[a, b, c] in &body.faces {
+            let (a, b, c) = (a as usize, b as usize, c as usize);
+            let area_normal = 0.5 * (x[b] - x[a]).cross(x[c] - x[a]);
+            let share = scale / 3.0 * area_normal;
+            out[a] += share;
+            out[b] += share;
+            out[c] += share;
+        }
+    }
+}
 
 impl Force for GasPressure {
     fn name(&self) -> &'static str {
@@ -29,28 +73,9 @@ impl Force for GasPressure {
     }
 
     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
-        let x = context.position;
         for body in context.bodies {
-            let Some(pressure) = pressure(body, x, context.time) else {
-                continue;
-            };
-            if body.is_planar() {
-                for &[a, b] in &body.segments {
-                    let d = x[b as usize] - x[a as usize];
-                    // l n = (Δy, -Δx) for a counter-clockwise loop.
-                    let share = 0.5 * pressure * Vec3::new(d.y, -d.x, 0.0);
-                    force[a as usize] += share;
-                    force[b as usize] += share;
-                }
-            } else {
-                for &[a, b, c] in &body.faces {
-                    let (a, b, c) = (a as usize, b as usize, c as usize);
-                    let area_normal = 0.5 * (x[b] - x[a]).cross(x[c] - x[a]);
-                    let share = pressure / 3.0 * area_normal;
-                    force[a] += share;
-                    force[b] += share;
-                    force[c] += share;
-                }
+            if let Some(pressure) = pressure(body, context.position, context.time) {
+                add_volume_gradient(body, context.position, pressure, force);
             }
         }
     }
@@ -65,22 +90,65 @@ impl Force for GasPressure {
         }
     }
 
-    fn linearize(&mut self, _context: &ForceContext) -> Linearization {
-        Linearization::Explicit
+    fn linearize(&mut self, context: &ForceContext) -> Linearization {
+        let x = context.position;
+        self.gradient.clear();
+        self.gradient.resize(x.len(), Vec3::ZERO);
+        self.stiff.clear();
+        for body in context.bodies {
+            let Some(gas) = &body.gas else { continue };
+            if gas.volume_model != VolumeModel::Exact {
+                continue;
+            }
+            let volume = gas.volume_model.volume(body, x);
+            if volume > 0.0 {
+                add_volume_gradient(body, x, 1.0, &mut self.gradient);
+                let stiffness = gas.nrt_at(context.time) / (volume * volume);
+                self.stiff.push((body.particles.clone(), stiffness));
+            }
+        }
+        Linearization::Approximate
     }
 
-    /// Explicit in the implicit solvers (see the module documentation).
     fn add_jacobian_products(
         &self,
-        _: &ForceContext,
-        _: JacobianScale,
-        _: &[Vec3],
-        _: &mut [Vec3],
+        _context: &ForceContext,
+        scale: JacobianScale,
+        p: &[Vec3],
+        out: &mut [Vec3],
     ) {
+        for (range, stiffness) in &self.stiff {
+            let along: Real = self.gradient[range.clone()]
+                .iter()
+                .zip(&p[range.clone()])
+                .map(|(g, p)| g.dot(*p))
+                .sum();
+            let factor = scale.position * stiffness * along;
+            for (o, g) in out[range.clone()]
+                .iter_mut()
+                .zip(&self.gradient[range.clone()])
+            {
+                *o -= factor * *g;
+            }
+        }
     }
 
-    /// Explicit in the implicit solvers (see the module documentation).
-    fn add_jacobian_diagonal(&self, _: &ForceContext, _: JacobianScale, _: &mut [Vec3]) {}
+    fn add_jacobian_diagonal(
+        &self,
+        _context: &ForceContext,
+        scale: JacobianScale,
+        diagonal: &mut [Vec3],
+    ) {
+        for (range, stiffness) in &self.stiff {
+            let factor = scale.position * stiffness;
+            for (d, g) in diagonal[range.clone()]
+                .iter_mut()
+                .zip(&self.gradient[range.clone()])
+            {
+                *d -= factor * *g * *g;
+            }
+        }
+    }
 }
 
 /// Pressure `nRT / V` of `body`'s gas at `position` and `time` (Pa, or N/m

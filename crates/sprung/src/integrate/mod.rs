@@ -21,14 +21,15 @@ mod symplectic_euler;
 mod verlet;
 
 pub use euler::ExplicitEuler;
-pub use implicit::SolverSettings;
+pub use implicit::{ImplicitEuler, Projective, SolverSettings};
 pub use midpoint::Midpoint;
 pub use rk4::RungeKutta4;
 pub use symplectic_euler::SymplecticEuler;
 pub use verlet::Verlet;
 
+use crate::collide::ContactConstraint;
 use crate::error::SolverError;
-use crate::forces::{JacobianScale, Linearization};
+use crate::forces::{JacobianScale, Jacobians, Linearization};
 use crate::springs::Springs;
 use crate::{Real, Vec3};
 
@@ -71,15 +72,34 @@ pub trait Derivative {
             *a *= w;
         }
     }
-    /// Linearise every force at `state`; the least exact [`Linearization`].
-    fn linearize(&mut self, state: State) -> Linearization;
+    /// Set `out` to the contacts with projection colliders over a step of
+    /// `dt` (s) from `state` (see [`ContactConstraint`]); the implicit
+    /// integrators hold them in their solves.
+    fn contact_constraints(&self, state: State, dt: Real, out: &mut Vec<ContactConstraint>);
+    /// Linearise the forces `which` asks for at `state`; the least exact
+    /// [`Linearization`].
+    fn linearize(&mut self, state: State, which: Jacobians) -> Linearization;
     /// Set `out` to `scale.position ∂f/∂x·p + scale.velocity ∂f/∂v·p` (N
-    /// per unit of `p`), the Jacobians taken at `state`, which must be the
-    /// state of the last [`Derivative::linearize`].
-    fn jacobian_products(&self, state: State, scale: JacobianScale, p: &[Vec3], out: &mut [Vec3]);
+    /// per unit of `p`) for the forces `which` asks for, the Jacobians taken
+    /// at `state`, which must be the state of the last
+    /// [`Derivative::linearize`].
+    fn jacobian_products(
+        &self,
+        state: State,
+        which: Jacobians,
+        scale: JacobianScale,
+        p: &[Vec3],
+        out: &mut [Vec3],
+    );
     /// Set `diagonal` to the diagonal of `scale.position ∂f/∂x +
     /// scale.velocity ∂f/∂v` at `state` (as for the products).
-    fn jacobian_diagonal(&self, state: State, scale: JacobianScale, diagonal: &mut [Vec3]);
+    fn jacobian_diagonal(
+        &self,
+        state: State,
+        which: Jacobians,
+        scale: JacobianScale,
+        diagonal: &mut [Vec3],
+    );
 }
 
 /// What one step of an integrator reports.
@@ -127,16 +147,24 @@ pub enum IntegratorKind {
     Rk4,
     /// Position (Störmer) Verlet, order 2.
     Verlet,
+    /// Implicit (backward) Euler by Newton's method and preconditioned
+    /// conjugate gradients, order 1: stable at any step, dissipates.
+    ImplicitEuler,
+    /// Backward Euler by the local/global iterations of the fast
+    /// mass-spring solver (Liu et al. 2013), order 1.
+    Projective,
 }
 
 impl IntegratorKind {
     /// Every integrator, in the order of the documentation.
-    pub const ALL: [IntegratorKind; 5] = [
+    pub const ALL: [IntegratorKind; 7] = [
         IntegratorKind::Euler,
         IntegratorKind::SymplecticEuler,
         IntegratorKind::Midpoint,
         IntegratorKind::Rk4,
         IntegratorKind::Verlet,
+        IntegratorKind::ImplicitEuler,
+        IntegratorKind::Projective,
     ];
 
     /// The name used in scene files and on the command line.
@@ -147,6 +175,8 @@ impl IntegratorKind {
             IntegratorKind::Midpoint => "midpoint",
             IntegratorKind::Rk4 => "rk4",
             IntegratorKind::Verlet => "verlet",
+            IntegratorKind::ImplicitEuler => "implicit_euler",
+            IntegratorKind::Projective => "projective",
         }
     }
 
@@ -158,10 +188,22 @@ impl IntegratorKind {
     /// The order of accuracy: global error ∝ dtᵖ.
     pub fn order(self) -> u32 {
         match self {
-            IntegratorKind::Euler | IntegratorKind::SymplecticEuler => 1,
+            IntegratorKind::Euler
+            | IntegratorKind::SymplecticEuler
+            | IntegratorKind::ImplicitEuler
+            | IntegratorKind::Projective => 1,
             IntegratorKind::Midpoint | IntegratorKind::Verlet => 2,
             IntegratorKind::Rk4 => 4,
         }
+    }
+
+    /// True for the methods that solve equations at each step (and read
+    /// [`SolverSettings`]).
+    pub fn is_implicit(self) -> bool {
+        matches!(
+            self,
+            IntegratorKind::ImplicitEuler | IntegratorKind::Projective
+        )
     }
 
     /// Force evaluations per step of the explicit methods (the cost of a
@@ -183,6 +225,8 @@ impl IntegratorKind {
             IntegratorKind::Midpoint => Box::new(Midpoint::default()),
             IntegratorKind::Rk4 => Box::new(RungeKutta4::default()),
             IntegratorKind::Verlet => Box::new(Verlet::default()),
+            IntegratorKind::ImplicitEuler => Box::new(ImplicitEuler::default()),
+            IntegratorKind::Projective => Box::new(Projective::default()),
         }
     }
 }

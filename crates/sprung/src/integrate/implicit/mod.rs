@@ -11,6 +11,13 @@
 //!   constant matrix `M + dt² L` factored once by a sparse Cholesky
 //!   decomposition.
 
+mod cg;
+mod euler;
+mod projective;
+
+pub use euler::ImplicitEuler;
+pub use projective::Projective;
+
 use crate::error::BuildError;
 use crate::Real;
 
