@@ -79,7 +79,10 @@ fn run_writes_the_contracted_columns() {
         "time after 100 steps of 1 ms"
     );
     // The bob falls: its probed y goes down, and total = sum of the terms.
-    let probe_y = header.iter().position(|c| c == "p1.y").expect("p1.y column");
+    let probe_y = header
+        .iter()
+        .position(|c| c == "p1.y")
+        .expect("p1.y column");
     assert!(rows[10][probe_y] < 0.0);
     for row in &rows {
         let sum: f64 = row[2..6].iter().sum::<f64>() + row[7];
@@ -385,4 +388,90 @@ fn demos_with_meshes_run_from_any_folder_and_oscillator_refuses_one_integrator()
         "{}",
         text(&output.stderr)
     );
+}
+
+/// A stiff cloth swinging down at the frame step, with implicit Euler
+/// allowed only `max_iterations` conjugate-gradient iterations per solve.
+fn stiff_cloth_scene(max_iterations: u32) -> String {
+    format!(
+        r#"[sim]
+dt = 0.016666666666666666
+integrator = "implicit_euler"
+steps = 5
+every = 1
+solver_tolerance = 1e-8
+max_iterations = {max_iterations}
+
+[[body]]
+name = "cloth"
+cloth = {{ nx = 8, ny = 8, width = 1.0, height = 1.0 }}
+mass = 0.002
+stiffness = 2.0e4
+rotate = [90.0, 0.0, 0.0]
+pinned = [0, 7]
+"#
+    )
+}
+
+#[test]
+fn implicit_solves_are_reported_and_a_solve_short_of_its_tolerance_is_warned_about() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "good.toml", &stiff_cloth_scene(1000));
+    let output = sprung(
+        &["run", "good.toml", "--out", "good", "--quiet"],
+        dir.path(),
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert!(output.stderr.is_empty(), "{}", text(&output.stderr));
+    let (header, rows) = csv(&dir.path().join("good/diagnostics.csv"));
+    let column = |name: &str| header.iter().position(|c| c == name).expect(name);
+    let (iterations, residual) = (column("solver_iterations"), column("solver_residual"));
+    for row in &rows[1..] {
+        assert!(row[iterations] >= 1.0, "iterations {}", row[iterations]);
+        assert!(row[residual] <= 1e-8, "residual {}", row[residual]);
+    }
+    // Two iterations cannot reach 1e-8 on this system once it moves (the
+    // first step, from rest under uniform gravity, converges in two): a
+    // warning with the step and the residual at the first, and the count
+    // at the end, even
+    // with --quiet (which silences everything but errors and warnings).
+    write(dir.path(), "short.toml", &stiff_cloth_scene(2));
+    let output = sprung(
+        &["run", "short.toml", "--out", "short", "--quiet"],
+        dir.path(),
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let stderr = text(&output.stderr);
+    assert_eq!(stderr.matches("warning:").count(), 2, "{stderr}");
+    assert!(
+        stderr.contains("warning: step 2 (t = 0.033333 s)"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("max_iterations = 2"), "{stderr}");
+    assert!(stderr.contains("relative residual"), "{stderr}");
+    assert!(stderr.contains("in 4 of 5 steps"), "{stderr}");
+    let (_, rows) = csv(&dir.path().join("short/diagnostics.csv"));
+    for row in &rows[2..] {
+        assert_eq!(row[iterations], 2.0);
+        assert!(row[residual] > 1e-8);
+    }
+    // The explicit integrators leave both columns empty.
+    let text_of = std::fs::read_to_string(dir.path().join("good/diagnostics.csv")).expect("csv");
+    let explicit = stiff_cloth_scene(1000)
+        .replace("integrator = \"implicit_euler\"", "integrator = \"rk4\"")
+        .replace("solver_tolerance = 1e-8\nmax_iterations = 1000\n", "")
+        .replace("dt = 0.016666666666666666", "dt = 1e-5");
+    assert!(text_of.contains("solver_iterations,solver_residual"));
+    write(dir.path(), "explicit.toml", &explicit);
+    let output = sprung(
+        &["run", "explicit.toml", "--out", "explicit", "--quiet"],
+        dir.path(),
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let explicit_csv =
+        std::fs::read_to_string(dir.path().join("explicit/diagnostics.csv")).expect("csv");
+    for line in explicit_csv.lines().skip(1) {
+        let cells: Vec<&str> = line.split(',').collect();
+        assert_eq!((cells[iterations], cells[residual]), ("", ""), "{line}");
+    }
 }

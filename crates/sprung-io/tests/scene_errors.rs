@@ -412,3 +412,71 @@ fn run_lengths_beyond_a_trillion_steps_are_refused() {
         &["steps: at most"],
     );
 }
+
+/// The implicit solvers' keys, each refused out of range and with an
+/// integrator that does not read it, on the line of the key (line 4).
+#[test]
+fn solver_keys() {
+    let with = |integrator: &str, key: &str| {
+        variant(
+            "steps = 10\n",
+            &format!("steps = 10\nintegrator = \"{integrator}\"\n{key}\n"),
+        )
+    };
+    assert_error(
+        &with("implicit_euler", "solver_tolerance = 0.0"),
+        5,
+        &["solver_tolerance", "positive"],
+    );
+    assert_error(
+        &with("implicit_euler", "solver_tolerance = -1e-6"),
+        5,
+        &["solver_tolerance"],
+    );
+    assert_error(
+        &with("implicit_euler", "max_iterations = 0"),
+        5,
+        &["max_iterations", "at least 1"],
+    );
+    assert_error(
+        &with("implicit_euler", "newton_iterations = 0"),
+        5,
+        &["newton_iterations", "at least 1"],
+    );
+    assert_error(
+        &with("projective", "iterations = 0"),
+        5,
+        &["iterations", "at least 1"],
+    );
+    assert_error(
+        &with("implicit_euler", "max_iterations = -3"),
+        5,
+        &["max_iterations"],
+    );
+    // A key with an integrator that does not read it.
+    for (integrator, key) in [
+        ("symplectic_euler", "solver_tolerance = 1e-6"),
+        ("rk4", "max_iterations = 100"),
+        ("verlet", "newton_iterations = 2"),
+        ("euler", "iterations = 10"),
+        ("projective", "newton_iterations = 2"),
+        ("implicit_euler", "iterations = 10"),
+    ] {
+        let name = key.split(' ').next().unwrap_or_default();
+        assert_error(
+            &with(integrator, key),
+            5,
+            &[name, "is a setting of the", integrator],
+        );
+    }
+    // And accepted where they belong.
+    for (integrator, key) in [
+        ("implicit_euler", "solver_tolerance = 1e-8"),
+        ("implicit_euler", "newton_iterations = 3"),
+        ("projective", "iterations = 20"),
+        ("projective", "max_iterations = 50"),
+    ] {
+        let scene = parse_scene(&with(integrator, key), Path::new("good.toml"));
+        assert!(scene.is_ok(), "{integrator} {key}: {:?}", scene.err());
+    }
+}

@@ -47,6 +47,20 @@ pub(crate) fn line_of(text: &str, offset: usize) -> usize {
         + 1
 }
 
+/// The key whose value starts at byte `offset` of `text` (`max_iterations`
+/// in `max_iterations = -3`, `nx` in `cloth = { nx = -1 }`), if there is one
+/// on that line.
+pub(crate) fn key_before(text: &str, offset: usize) -> Option<&str> {
+    let before = text.get(..offset.min(text.len()))?;
+    let line = &before[before.rfind('\n').map_or(0, |i| i + 1)..];
+    let assignment = &line[..line.rfind('=')?];
+    let key = assignment
+        .trim_end()
+        .rsplit(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '.'))
+        .next()?;
+    (!key.is_empty()).then_some(key)
+}
+
 /// The 1-based line of the first `key = ...` (or `key=`) in the table that
 /// starts at byte `start` of `text`, looking up to the next table header;
 /// for a dotted key `table.key` the line of `table`. Tries each of `keys`

@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use sprung::integrate::SolverSettings;
 use sprung::{collide, Collider, ContactResponse, IntegratorKind, Real, Shape, Vec3, World};
 
-use error::{line_of, line_of_key};
+use error::{key_before, line_of, line_of_key};
 use tables::{ColliderTable, SceneFile, SimTable};
 
 /// Most steps a scene may ask for (a run of 10¹² steps would take days).
@@ -95,7 +95,12 @@ pub fn parse_scene_with(
 ) -> Result<Scene, SceneError> {
     let file: SceneFile = toml::from_str(text).map_err(|e| {
         let line = e.span().map(|s| line_of(text, s.start));
-        SceneError::new(path, line, e.message().trim().to_string())
+        let message = e.message().trim();
+        let message = match e.span().and_then(|s| key_before(text, s.start)) {
+            Some(key) if !message.contains(&format!("`{key}`")) => format!("`{key}`: {message}"),
+            _ => message.to_string(),
+        };
+        SceneError::new(path, line, message)
     })?;
     let sim_span = file.sim.span();
     let at = |span: std::ops::Range<usize>, key: &str, message: String| {
@@ -246,12 +251,12 @@ fn solver_settings(sim: &SimTable, integrator: IntegratorKind) -> Result<SolverS
         (
             "solver_tolerance",
             sim.solver_tolerance.is_some(),
-            &[ImplicitEuler],
+            &[ImplicitEuler, Projective],
         ),
         (
             "max_iterations",
             sim.max_iterations.is_some(),
-            &[ImplicitEuler],
+            &[ImplicitEuler, Projective],
         ),
         (
             "newton_iterations",

@@ -27,10 +27,11 @@ use crate::Real;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolverSettings {
     /// Relative residual `|b - A x| / |b|` at which conjugate gradients stop
-    /// (implicit Euler). Default 1e-6.
+    /// (each linear solve of implicit Euler, each global step of the
+    /// projective solver). Default 1e-6.
     pub tolerance: Real,
-    /// Most conjugate-gradient iterations per linear solve (implicit
-    /// Euler); reaching it above the tolerance is reported. Default 1000.
+    /// Most conjugate-gradient iterations per linear solve; reaching it
+    /// above the tolerance is reported. Default 1000.
     pub max_iterations: u32,
     /// Newton iterations per step of implicit Euler. Default 1: the
     /// linearised step of Baraff and Witkin; more iterate towards the exact
