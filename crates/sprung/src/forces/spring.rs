@@ -48,9 +48,10 @@ impl SpringJacobian {
     /// `α ∂f_i/∂x_i·p + β ∂f_i/∂v_i·p` for spring stiffness `k` (N/m) and
     /// damping `c` (N·s/m).
     fn product(self, k: Real, c: Real, scale: JacobianScale, p: Vec3) -> Vec3 {
-        let along = self.axis.dot(p);
-        let elastic = k * along * self.axis + self.across * (p - along * self.axis);
-        -(scale.position * elastic + scale.velocity * c * along * self.axis)
+        // α (k t tᵀ + k⊥ (I - t tᵀ)) + β c t tᵀ = a t tᵀ + b I.
+        let a = scale.position * (k - self.across) + scale.velocity * c;
+        let b = scale.position * self.across;
+        -(a * self.axis.dot(p) * self.axis + b * p)
     }
 
     /// The diagonal of `α ∂f_i/∂x_i + β ∂f_i/∂v_i`.
