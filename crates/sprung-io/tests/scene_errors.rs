@@ -461,6 +461,7 @@ fn solver_keys() {
         ("euler", "iterations = 10"),
         ("projective", "newton_iterations = 2"),
         ("implicit_euler", "iterations = 10"),
+        ("projective", "preconditioner = \"jacobi\""),
     ] {
         let name = key.split(' ').next().unwrap_or_default();
         assert_error(
@@ -469,12 +470,18 @@ fn solver_keys() {
             &[name, "is a setting of the", integrator],
         );
     }
+    assert_error(
+        &with("implicit_euler", "preconditioner = \"cholesky\""),
+        5,
+        &["preconditioner", "cholesky", "jacobi, laplacian"],
+    );
     // And accepted where they belong.
     for (integrator, key) in [
         ("implicit_euler", "solver_tolerance = 1e-8"),
         ("implicit_euler", "newton_iterations = 3"),
         ("projective", "iterations = 20"),
         ("projective", "max_iterations = 50"),
+        ("implicit_euler", "preconditioner = \"laplacian\""),
     ] {
         let scene = parse_scene(&with(integrator, key), Path::new("good.toml"));
         assert!(scene.is_ok(), "{integrator} {key}: {:?}", scene.err());

@@ -16,7 +16,7 @@ pub use error::SceneError;
 
 use std::path::{Path, PathBuf};
 
-use sprung::integrate::SolverSettings;
+use sprung::integrate::{Preconditioner, SolverSettings};
 use sprung::{collide, Collider, ContactResponse, IntegratorKind, Real, Shape, Vec3, World};
 
 use error::{key_before, line_of, line_of_key};
@@ -247,7 +247,7 @@ fn apply_settings(world: &mut World, sim: &SimTable) -> Result<(), KeyError> {
 /// that read it, and is refused with any other.
 fn solver_settings(sim: &SimTable, integrator: IntegratorKind) -> Result<SolverSettings, KeyError> {
     use IntegratorKind::{ImplicitEuler, Projective};
-    let keys: [(&'static str, bool, &[IntegratorKind]); 4] = [
+    let keys: [(&'static str, bool, &[IntegratorKind]); 5] = [
         (
             "solver_tolerance",
             sim.solver_tolerance.is_some(),
@@ -264,6 +264,11 @@ fn solver_settings(sim: &SimTable, integrator: IntegratorKind) -> Result<SolverS
             &[ImplicitEuler],
         ),
         ("iterations", sim.iterations.is_some(), &[Projective]),
+        (
+            "preconditioner",
+            sim.preconditioner.is_some(),
+            &[ImplicitEuler],
+        ),
     ];
     for (key, given, readers) in keys {
         if given && !readers.contains(&integrator) {
@@ -283,6 +288,15 @@ fn solver_settings(sim: &SimTable, integrator: IntegratorKind) -> Result<SolverS
         max_iterations: sim.max_iterations.unwrap_or(defaults.max_iterations),
         newton_iterations: sim.newton_iterations.unwrap_or(defaults.newton_iterations),
         iterations: sim.iterations.unwrap_or(defaults.iterations),
+        preconditioner: match &sim.preconditioner {
+            None => defaults.preconditioner,
+            Some(name) => Preconditioner::from_name(name).ok_or_else(|| {
+                (
+                    "preconditioner",
+                    format!("unknown preconditioner \"{name}\" (known: jacobi, laplacian)"),
+                )
+            })?,
+        },
     };
     settings
         .validate()

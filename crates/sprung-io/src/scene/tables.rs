@@ -112,6 +112,9 @@ pub(crate) struct SimTable {
     /// Local/global iterations per step (projective).
     #[serde(default)]
     pub iterations: Option<u32>,
+    /// Implicit Euler's preconditioner: "jacobi" or "laplacian".
+    #[serde(default)]
+    pub preconditioner: Option<String>,
 }
 
 /// `[[body]]`: one body, from a builder or given particle by particle.

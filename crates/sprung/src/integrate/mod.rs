@@ -21,7 +21,7 @@ mod symplectic_euler;
 mod verlet;
 
 pub use euler::ExplicitEuler;
-pub use implicit::{ImplicitEuler, Projective, SolverSettings};
+pub use implicit::{ImplicitEuler, Preconditioner, Projective, SolverSettings};
 pub use midpoint::Midpoint;
 pub use rk4::RungeKutta4;
 pub use symplectic_euler::SymplecticEuler;
