@@ -10,6 +10,7 @@ mod demos;
 mod plot;
 mod render;
 mod run;
+mod study;
 mod view;
 
 use std::path::PathBuf;
@@ -52,6 +53,9 @@ enum Command {
     Plot(plot::PlotArgs),
     /// Open the interactive viewer on a scene.
     View(view::ViewArgs),
+    /// Studies of a scene: `stability` (each integrator's largest stable dt and its cost).
+    #[command(subcommand)]
+    Study(study::StudyCommand),
     /// Measure the engine's speed: spring updates per second on a 128×128 cloth, steps per second of gas balls.
     Bench {
         /// Particles along each side of the cloth.
@@ -113,6 +117,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::View(args) => view::run(&args),
+        Command::Study(command) => study::run(&command),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

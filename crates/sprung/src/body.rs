@@ -68,6 +68,28 @@ pub struct BodyData {
     pub segments: Vec<[usize; 2]>,
     /// The gas inside, for a closed body (`faces` or `segments` closed).
     pub gas: Option<Gas>,
+    /// How the body takes part in contacts between bodies.
+    pub contact: BodyContact,
+}
+
+/// How a body takes part in contacts between bodies (per-body keys
+/// `collide` and `self_collision`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BodyContact {
+    /// Collides with other bodies. Default true.
+    pub collide: bool,
+    /// Collides with itself (a cloth folding onto itself). Default false.
+    /// Needs faces or segments.
+    pub self_collision: bool,
+}
+
+impl Default for BodyContact {
+    fn default() -> Self {
+        BodyContact {
+            collide: true,
+            self_collision: false,
+        }
+    }
 }
 
 impl BodyData {
@@ -166,7 +188,11 @@ impl BodyData {
         self.validate_springs(count)?;
         self.validate_faces(count)?;
         self.validate_segments(count)?;
-        self.validate_gas()
+        self.validate_gas()?;
+        if self.contact.self_collision && self.faces.is_empty() && self.segments.is_empty() {
+            return Err(BuildError::SelfCollisionWithoutSurface);
+        }
+        Ok(())
     }
 
     /// True when the faces form a closed, consistently oriented surface, or
@@ -385,6 +411,10 @@ pub struct Body {
     pub closed: bool,
     /// The gas inside, if any.
     pub gas: Option<Gas>,
+    /// The edges of `faces`, each once (for edge–edge contacts).
+    pub edges: Vec<[u32; 2]>,
+    /// How the body takes part in contacts between bodies.
+    pub contact: BodyContact,
 }
 
 impl Body {

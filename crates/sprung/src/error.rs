@@ -144,6 +144,9 @@ pub enum BuildError {
         /// Number of particles.
         particles: usize,
     },
+    /// Self-collision asked of a body with no faces or segments.
+    #[error("`self_collision` needs a surface: give the body `faces` (3D) or `segments` (2D); bodies without one collide with others as particles")]
+    SelfCollisionWithoutSurface,
     /// A gas in a body with no faces or segments.
     #[error("`gas` needs a closed surface: give the body `faces` (3D) or `segments` (2D), or use a ring, sphere or closed mesh")]
     GasWithoutSurface,
@@ -170,6 +173,14 @@ pub enum SolverError {
     /// masses or stiffnesses).
     #[error("the projective solver could not factor its matrix M + dt² L: {0}")]
     Factorization(String),
+    /// The adaptive integrator could not keep its error estimate within the
+    /// tolerance even with tiny steps (a non-finite or violently stiff
+    /// state).
+    #[error("rk45 could not meet error_tolerance: its step fell to {step:.3e} s")]
+    StepTooSmall {
+        /// The step it had come down to (s).
+        step: Real,
+    },
 }
 
 /// Why a step could not be taken, or why the run must stop.

@@ -25,6 +25,7 @@
 pub mod body;
 pub mod build;
 pub mod collide;
+pub mod contact;
 pub mod error;
 pub mod forces;
 pub mod gas;
@@ -40,12 +41,13 @@ pub type Real = f64;
 /// A 3D vector of [`Real`]; 2D scenes use z = 0.
 pub type Vec3 = glam::DVec3;
 
-pub use body::{Body, BodyData, SpringData};
+pub use body::{Body, BodyContact, BodyData, SpringData};
 pub use collide::{Collider, ContactResponse, Path, Shape};
+pub use contact::{ContactSettings, Contacts};
 pub use error::{BuildError, StepError};
 pub use gas::{Gas, VolumeModel};
 pub use integrate::IntegratorKind;
 pub use measure::Energies;
 pub use particles::Particles;
 pub use springs::Springs;
-pub use world::{Settings, World};
+pub use world::{Settings, Substeps, World};

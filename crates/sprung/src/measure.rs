@@ -4,6 +4,7 @@
 
 use crate::body::Body;
 use crate::collide::Collider;
+use crate::contact::Contacts;
 use crate::particles::Particles;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
@@ -67,13 +68,21 @@ pub fn centroid(particles: &Particles, body: &Body) -> Vec3 {
 /// `ω_max²` is bounded by Gershgorin's theorem on the mass-scaled stiffness
 /// matrix `M^-½ K M^-½`: for particle `i`, the sum over its springs of
 /// `k (1/m_i + 1/√(m_i m_j))` (a pinned neighbour counts as infinite mass),
-/// plus the penalty stiffness of colliders over `m_i`. For a uniform chain this
-/// gives PHYSICS.md's `ω_max = 2 √(k/m)`. `γ_max` is the same bound for the
-/// damping coefficients (it limits explicit steps of a heavily damped
-/// system). Symplectic Euler and Verlet are stable below this step; explicit
-/// Euler is never strictly stable on an undamped oscillator, and RK4
-/// tolerates about 1.4 times more. Infinite when nothing is stiff.
-pub fn stable_time_step(particles: &Particles, springs: &Springs, colliders: &[Collider]) -> Real {
+/// plus the penalty stiffness of colliders over `m_i`, plus, for each
+/// candidate contact pair of the step it is part of, twice the contact's
+/// stiffness over `m_i` (its closest-point weights sum to at most 2 on each
+/// side). For a uniform chain this gives PHYSICS.md's `ω_max = 2 √(k/m)`.
+/// `γ_max` is the same bound for the damping coefficients (it limits
+/// explicit steps of a heavily damped system). Symplectic Euler and Verlet
+/// are stable below this step; explicit Euler is never strictly stable on
+/// an undamped oscillator, and RK4 tolerates about 1.4 times more.
+/// Infinite when nothing is stiff.
+pub fn stable_time_step(
+    particles: &Particles,
+    springs: &Springs,
+    colliders: &[Collider],
+    contacts: &Contacts,
+) -> Real {
     let n = particles.len();
     let mut stiffness_bound = vec![0.0; n];
     let mut damping_bound = vec![0.0; n];
@@ -86,6 +95,16 @@ pub fn stable_time_step(particles: &Particles, springs: &Springs, colliders: &[C
             damping_bound[me] += springs.damping[s] * (w + coupling);
         }
     }
+    contacts.pairs.for_each_member(|first, members| {
+        let (k, c) = contacts
+            .settings
+            .coefficients(particles.mass[first as usize]);
+        for i in members {
+            let w = particles.inverse_mass[i as usize];
+            stiffness_bound[i as usize] += 2.0 * k * w;
+            damping_bound[i as usize] += 2.0 * c * w;
+        }
+    });
     let penalty: Real = colliders.iter().map(Collider::penalty_stiffness).sum();
     let mut worst: Real = 0.0;
     for i in 0..n {

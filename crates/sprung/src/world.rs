@@ -18,6 +18,7 @@
 
 use crate::body::{Body, BodyData};
 use crate::collide::{self, Collider, ContactConstraint};
+use crate::contact::{BodyContacts, Contacts};
 use crate::error::{BlowUpReason, BuildError, StepError};
 use crate::forces::{
     self, AirDrag, ForceContext, ForceList, GasPressure, Gravity, JacobianScale, Jacobians,
@@ -27,7 +28,22 @@ use crate::integrate::{Derivative, Integrator, IntegratorKind, SolverSettings, S
 use crate::measure::{self, Energies};
 use crate::particles::Particles;
 use crate::springs::Springs;
+use crate::surface;
 use crate::{Real, Vec3};
+
+/// Most substeps [`Substeps::Auto`] splits a step into.
+pub const MAX_SUBSTEPS: u32 = 1_000_000;
+
+/// How many substeps each step of the world is split into.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Substeps {
+    /// Always this many (at least 1).
+    Fixed(u32),
+    /// For the explicit fixed-step integrators, as many as the stability
+    /// estimate asks (springs, penalty colliders, contacts); one for the
+    /// implicit and adaptive ones.
+    Auto,
+}
 
 /// World-wide settings: blow-up limits and the implicit solvers' tolerances.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,6 +56,8 @@ pub struct Settings {
     pub max_speed: Real,
     /// Tolerances and iteration limits of the implicit integrators.
     pub solver: SolverSettings,
+    /// Substeps of each step. Default one.
+    pub substeps: Substeps,
 }
 
 impl Default for Settings {
@@ -48,6 +66,7 @@ impl Default for Settings {
             max_distance: 1e6,
             max_speed: 1e6,
             solver: SolverSettings::default(),
+            substeps: Substeps::Fixed(1),
         }
     }
 }
@@ -80,6 +99,8 @@ pub struct World {
     pub forces: ForceList,
     /// Colliders the particles must stay out of.
     pub colliders: Vec<Collider>,
+    /// Contact between bodies: settings and the step's candidate pairs.
+    pub contacts: Contacts,
     /// Blow-up limits and solver tolerances.
     pub settings: Settings,
     integrator: Box<dyn Integrator>,
@@ -102,12 +123,14 @@ impl World {
         forces.set(SpringForce::new());
         forces.set(GasPressure::new());
         forces.set(PenaltyContacts::new());
+        forces.set(BodyContacts::new());
         World {
             particles: Particles::default(),
             springs: Springs::default(),
             bodies: Vec::new(),
             forces,
             colliders: Vec::new(),
+            contacts: Contacts::default(),
             settings: Settings::default(),
             integrator: integrator.create(),
             time: 0.0,
@@ -210,6 +233,11 @@ impl World {
             segments: data.segments.iter().map(|s| s.map(index)).collect(),
             closed: data.is_closed(),
             gas: data.gas.clone(),
+            edges: surface::unique_edges(&data.faces)
+                .into_iter()
+                .map(|e| e.map(index))
+                .collect(),
+            contact: data.contact,
         };
         orient_outward(&mut body, &self.particles.position);
         self.bodies.push(body);
@@ -230,13 +258,21 @@ impl World {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(StepError::InvalidTimeStep { dt });
         }
-        self.settings
-            .solver
-            .validate()
+        self.validate_settings()
             .map_err(StepError::InvalidSettings)?;
-        let report = self.integrate(dt)?;
-        self.advance_time(dt);
-        self.collide();
+        self.detect(dt);
+        let substeps = self.substeps(dt);
+        let h = dt / Real::from(substeps);
+        let mut report = StepReport::default();
+        for _ in 0..substeps {
+            report = report.then(self.integrate(h)?);
+            self.advance_time(h);
+            self.collide();
+        }
+        if substeps > 1 {
+            report.substeps = Some(substeps);
+            report.step_size = Some(h);
+        }
         self.steps += 1;
         self.last_report = report;
         if report.unconverged {
@@ -248,6 +284,48 @@ impl World {
         }
         self.guard(dt)?;
         Ok(report)
+    }
+
+    /// Check the solver, contact and substep settings.
+    fn validate_settings(&self) -> Result<(), BuildError> {
+        self.settings.solver.validate()?;
+        self.contacts.settings.validate()?;
+        if self.settings.substeps == Substeps::Fixed(0) {
+            return Err(BuildError::OutOfRange {
+                field: "substeps",
+                value: 0.0,
+                reason: "must be at least 1, or \"auto\"",
+            });
+        }
+        Ok(())
+    }
+
+    /// How many substeps a step of `dt` (s) takes: `settings.substeps`, or
+    /// with [`Substeps::Auto`] and an explicit fixed-step integrator, as many
+    /// as keep each below 0.9 of the stable step (springs, colliders and
+    /// this step's contacts; see [`measure::stable_time_step`]).
+    fn substeps(&self, dt: Real) -> u32 {
+        match self.settings.substeps {
+            Substeps::Fixed(n) => n,
+            Substeps::Auto => {
+                let kind = self.integrator.kind();
+                if kind.is_implicit() || kind == IntegratorKind::Rk45 {
+                    return 1;
+                }
+                let stable = 0.9 * self.stable_time_step();
+                (dt / stable).ceil().clamp(1.0, MAX_SUBSTEPS as Real) as u32
+            }
+        }
+    }
+
+    /// The detect stage: the candidate contact pairs of this step.
+    fn detect(&mut self, dt: Real) {
+        self.contacts.detect(
+            &self.bodies,
+            &self.particles.position,
+            &self.particles.velocity,
+            dt,
+        );
     }
 
     fn integrate(&mut self, dt: Real) -> Result<StepReport, StepError> {
@@ -276,6 +354,7 @@ impl World {
             forces: &mut self.forces,
             frame: Frame {
                 colliders: &self.colliders,
+                contacts: &self.contacts,
                 springs: &self.springs,
                 bodies: &self.bodies,
                 mass,
@@ -371,11 +450,25 @@ impl World {
         energies
     }
 
+    /// Number of contact pairs between bodies closer than the contact
+    /// thickness at the current state (among the candidates of the last
+    /// detect stage).
+    pub fn active_contacts(&self) -> usize {
+        let mut count = 0;
+        self.contacts.pairs.for_each_touch(
+            &self.particles.position,
+            self.contacts.settings.thickness,
+            |_| count += 1,
+        );
+        count
+    }
+
     /// The context forces see at the world's current state, to evaluate one
     /// force on its own.
     pub fn force_context(&self) -> ForceContext<'_> {
         let frame = Frame {
             colliders: &self.colliders,
+            contacts: &self.contacts,
             springs: &self.springs,
             bodies: &self.bodies,
             mass: &self.particles.mass,
@@ -414,7 +507,12 @@ impl World {
     /// A stable time step for the explicit methods (s); see
     /// [`measure::stable_time_step`].
     pub fn stable_time_step(&self) -> Real {
-        measure::stable_time_step(&self.particles, &self.springs, &self.colliders)
+        measure::stable_time_step(
+            &self.particles,
+            &self.springs,
+            &self.colliders,
+            &self.contacts,
+        )
     }
 }
 
@@ -431,6 +529,7 @@ fn orient_outward(body: &mut Body, position: &[Vec3]) {
 #[derive(Debug, Clone, Copy)]
 struct Frame<'a> {
     colliders: &'a [Collider],
+    contacts: &'a Contacts,
     springs: &'a Springs,
     bodies: &'a [Body],
     mass: &'a [Real],
@@ -456,6 +555,7 @@ impl<'a> Frame<'a> {
             springs: self.springs,
             bodies: self.bodies,
             colliders: self.colliders,
+            contacts: self.contacts,
         }
     }
 }

@@ -24,7 +24,7 @@ impl Diagnostics {
     pub fn create(path: &Path, world: &World, probes: &[usize]) -> io::Result<Self> {
         let mut file = AtomicFile::create(path)?;
         let mut header = String::from(
-            "step,time,kinetic,spring,gravity,gas,total,contact,solver_iterations,solver_residual",
+            "step,time,kinetic,spring,gravity,gas,total,contact,contacts,solver_iterations,solver_residual,substeps,step_size",
         );
         for body in &world.bodies {
             for column in ["volume", "pressure", "cx", "cy", "cz"] {
@@ -42,17 +42,19 @@ impl Diagnostics {
         })
     }
 
-    /// Append a row for the world's current state. Volume (area in 2D) is
+    /// Append a row for the world's current state: `contacts` counts the
+    /// pairs of bodies touching (closer than the contact thickness). Volume (area in 2D) is
     /// left empty for bodies that are not closed, pressure for bodies
     /// without a gas; the solver's iterations and residual (of the step
     /// that led to this state) for the explicit integrators and the
-    /// starting row.
+    /// starting row; the substeps and the last substep's length (s) where a
+    /// step was split (`rk45`, `substeps`).
     pub fn record(&mut self, world: &World) -> io::Result<()> {
         let e = world.energies();
         let optional = |value: Option<f64>| value.map(|v| v.to_string()).unwrap_or_default();
         let report = world.last_step_report();
         let mut row = format!(
-            "{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
             world.steps(),
             world.time(),
             e.kinetic,
@@ -61,8 +63,11 @@ impl Diagnostics {
             e.gas,
             e.total(),
             e.contact,
+            world.active_contacts(),
             optional(report.iterations.map(f64::from)),
             optional(report.residual),
+            optional(report.substeps.map(f64::from)),
+            optional(report.step_size),
         );
         for index in 0..world.bodies.len() {
             let c = world.centroid(index).unwrap_or_default();

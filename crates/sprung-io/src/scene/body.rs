@@ -22,7 +22,7 @@
 use std::path::Path;
 
 use sprung::build::{self, ClothSprings, Internal, SurfaceSprings};
-use sprung::{BodyData, BuildError, Gas, SpringData, Vec3, VolumeModel};
+use sprung::{BodyContact, BodyData, BuildError, Gas, SpringData, Vec3, VolumeModel};
 
 use super::tables::{BodyTable, GasTable, PerSpring};
 use super::FileSource;
@@ -54,6 +54,10 @@ pub(crate) fn body_data(
     if let Some(pinned) = &table.pinned {
         data.pinned = pinned.clone();
     }
+    data.contact = BodyContact {
+        collide: table.collide.unwrap_or(true),
+        self_collision: table.self_collision.unwrap_or(false),
+    };
     match (&table.velocity, &table.velocities) {
         (Some(_), Some(_)) => {
             return Err((
@@ -388,6 +392,7 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::BadFace { .. } => "faces",
         BuildError::BadSegment { .. } => "segments",
         BuildError::GasWithoutSurface | BuildError::OpenSurface { .. } => "gas",
+        BuildError::SelfCollisionWithoutSurface => "self_collision",
         BuildError::DuplicateName(_) | BuildError::BadName(_) => "name",
     }
 }

@@ -17,10 +17,14 @@ pub use error::SceneError;
 use std::path::{Path, PathBuf};
 
 use sprung::integrate::{Preconditioner, SolverSettings};
-use sprung::{collide, Collider, ContactResponse, IntegratorKind, Real, Shape, Vec3, World};
+use sprung::world::MAX_SUBSTEPS;
+use sprung::{
+    collide, Collider, ContactResponse, ContactSettings, IntegratorKind, Real, Shape, Substeps,
+    Vec3, World,
+};
 
 use error::{key_before, line_of, line_of_key};
-use tables::{ColliderTable, SceneFile, SimTable};
+use tables::{ColliderTable, SceneFile, SimTable, SubstepsValue};
 
 /// Most steps a scene may ask for (a run of 10¹² steps would take days).
 pub const MAX_STEPS: u64 = 1_000_000_000_000;
@@ -155,6 +159,10 @@ pub fn parse_scene_with(
         );
         return Err(at(body.span(), "wind_scale", message));
     }
+    if let Some(table) = &file.contact {
+        world.contacts.settings = contact(table.get_ref())
+            .map_err(|(key, m)| at(table.span(), key, format!("contact: {m}")))?;
+    }
     let camera = match &file.camera {
         None => SceneCamera::default(),
         Some(table) => camera(table.get_ref())
@@ -234,6 +242,30 @@ fn apply_settings(world: &mut World, sim: &SimTable) -> Result<(), KeyError> {
         world.set_air_drag(c);
     }
     let settings = &mut world.settings;
+    if let Some(substeps) = &sim.substeps {
+        settings.substeps = match substeps {
+            SubstepsValue::Name(name) if name == "auto" => Substeps::Auto,
+            SubstepsValue::Count(n) if *n >= 1 && *n <= i64::from(MAX_SUBSTEPS) => {
+                Substeps::Fixed(*n as u32)
+            }
+            SubstepsValue::Name(name) => {
+                return Err((
+                    "substeps",
+                    format!(
+                    "`substeps` = \"{name}\": give a number of substeps (at least 1) or \"auto\""
+                ),
+                ))
+            }
+            SubstepsValue::Count(n) => {
+                return Err((
+                    "substeps",
+                    format!(
+                        "`substeps` = {n}: give a number from 1 to {MAX_SUBSTEPS}, or \"auto\""
+                    ),
+                ))
+            }
+        };
+    }
     if let Some(d) = sim.max_distance {
         settings.max_distance = positive("max_distance", d, "must be positive (m)")?;
     }
@@ -246,8 +278,8 @@ fn apply_settings(world: &mut World, sim: &SimTable) -> Result<(), KeyError> {
 /// The implicit solvers' keys of `[sim]`: each belongs to the integrators
 /// that read it, and is refused with any other.
 fn solver_settings(sim: &SimTable, integrator: IntegratorKind) -> Result<SolverSettings, KeyError> {
-    use IntegratorKind::{ImplicitEuler, Projective};
-    let keys: [(&'static str, bool, &[IntegratorKind]); 5] = [
+    use IntegratorKind::{ImplicitEuler, Projective, Rk45};
+    let keys: [(&'static str, bool, &[IntegratorKind]); 6] = [
         (
             "solver_tolerance",
             sim.solver_tolerance.is_some(),
@@ -269,6 +301,7 @@ fn solver_settings(sim: &SimTable, integrator: IntegratorKind) -> Result<SolverS
             sim.preconditioner.is_some(),
             &[ImplicitEuler],
         ),
+        ("error_tolerance", sim.error_tolerance.is_some(), &[Rk45]),
     ];
     for (key, given, readers) in keys {
         if given && !readers.contains(&integrator) {
@@ -288,6 +321,7 @@ fn solver_settings(sim: &SimTable, integrator: IntegratorKind) -> Result<SolverS
         max_iterations: sim.max_iterations.unwrap_or(defaults.max_iterations),
         newton_iterations: sim.newton_iterations.unwrap_or(defaults.newton_iterations),
         iterations: sim.iterations.unwrap_or(defaults.iterations),
+        error_tolerance: sim.error_tolerance.unwrap_or(defaults.error_tolerance),
         preconditioner: match &sim.preconditioner {
             None => defaults.preconditioner,
             Some(name) => Preconditioner::from_name(name).ok_or_else(|| {
@@ -370,6 +404,25 @@ fn collider(table: &ColliderTable) -> Result<Collider, KeyError> {
         collider = collider.with_path(path);
     }
     Ok(collider)
+}
+
+fn contact(table: &tables::ContactTable) -> Result<ContactSettings, KeyError> {
+    let defaults = ContactSettings::default();
+    let settings = ContactSettings {
+        enabled: table.enabled.unwrap_or(defaults.enabled),
+        thickness: table.thickness.unwrap_or(defaults.thickness),
+        friction: table.friction.unwrap_or(defaults.friction),
+        stiffness: table.stiffness,
+        damping: table.damping,
+    };
+    settings.validate().map_err(|e| {
+        let key = match body::key_of(&e) {
+            k if k.starts_with("contact.") => &k["contact.".len()..],
+            k => k,
+        };
+        (key, e.to_string())
+    })?;
+    Ok(settings)
 }
 
 fn camera(table: &tables::CameraTable) -> Result<SceneCamera, KeyError> {

@@ -18,6 +18,24 @@ pub(crate) struct SceneFile {
     pub wind: Option<Spanned<WindTable>>,
     #[serde(default)]
     pub camera: Option<Spanned<CameraTable>>,
+    #[serde(default)]
+    pub contact: Option<Spanned<ContactTable>>,
+}
+
+/// `[contact]`: how bodies touch each other.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ContactTable {
+    #[serde(default)]
+    pub enabled: Option<bool>,
+    #[serde(default)]
+    pub thickness: Option<f64>,
+    #[serde(default)]
+    pub friction: Option<f64>,
+    #[serde(default)]
+    pub stiffness: Option<f64>,
+    #[serde(default)]
+    pub damping: Option<f64>,
 }
 
 /// `[camera]`: where pictures of the scene are taken from.
@@ -115,6 +133,20 @@ pub(crate) struct SimTable {
     /// Implicit Euler's preconditioner: "jacobi" or "laplacian".
     #[serde(default)]
     pub preconditioner: Option<String>,
+    /// rk45's local error tolerance.
+    #[serde(default)]
+    pub error_tolerance: Option<f64>,
+    /// Substeps per step: a count, or "auto".
+    #[serde(default)]
+    pub substeps: Option<SubstepsValue>,
+}
+
+/// `substeps = N` or `substeps = "auto"`.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub(crate) enum SubstepsValue {
+    Count(i64),
+    Name(String),
 }
 
 /// `[[body]]`: one body, from a builder or given particle by particle.
@@ -163,6 +195,12 @@ pub(crate) struct BodyTable {
     // The factor of the `[wind]` this body feels.
     #[serde(default)]
     pub wind_scale: Option<f64>,
+    /// Collides with other bodies (default true).
+    #[serde(default)]
+    pub collide: Option<bool>,
+    /// Collides with itself (default false).
+    #[serde(default)]
+    pub self_collision: Option<bool>,
     // Keys every body accepts.
     #[serde(default)]
     pub mass: Option<f64>,

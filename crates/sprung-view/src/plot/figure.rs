@@ -11,11 +11,11 @@ use super::font::{self, FONT_FAMILY};
 use super::{encode, PlotError};
 
 /// Drawn at this multiple of the size, then shrunk (smooth lines).
-const SUPERSAMPLE: u32 = 2;
+pub(super) const SUPERSAMPLE: u32 = 2;
 
 const INK: RGBColor = RGBColor(40, 40, 40);
-const GREY: RGBColor = RGBColor(110, 110, 110);
-const GRID: RGBColor = RGBColor(222, 222, 222);
+pub(super) const GREY: RGBColor = RGBColor(110, 110, 110);
+pub(super) const GRID: RGBColor = RGBColor(222, 222, 222);
 
 /// A line on a panel: (x, y) points, with gaps where y is missing.
 #[derive(Debug, Clone)]
@@ -199,19 +199,19 @@ impl Figure {
 
 /// Sizes and text styles, scaled with the picture (1 unit = 1 px on a
 /// 1000 × 600 plot).
-struct Look {
+pub(super) struct Look {
     unit: f64,
-    title: TextStyle<'static>,
-    tick: TextStyle<'static>,
-    axis_title: TextStyle<'static>,
-    legend: TextStyle<'static>,
-    note: TextStyle<'static>,
+    pub(super) title: TextStyle<'static>,
+    pub(super) tick: TextStyle<'static>,
+    pub(super) axis_title: TextStyle<'static>,
+    pub(super) legend: TextStyle<'static>,
+    pub(super) note: TextStyle<'static>,
 }
 
 impl Look {
     /// The look of a `w` × `h` pixel drawing (at [`SUPERSAMPLE`] times the
     /// final size).
-    fn new(w: i32, h: i32) -> Look {
+    pub(super) fn new(w: i32, h: i32) -> Look {
         let s = f64::from(SUPERSAMPLE);
         let unit = s
             * (f64::from(w) / s / 1000.0)
@@ -235,7 +235,7 @@ impl Look {
     }
 
     /// `v` units in pixels (at least 1).
-    fn px(&self, v: f64) -> i32 {
+    pub(super) fn px(&self, v: f64) -> i32 {
         (v * self.unit).round().max(1.0) as i32
     }
 }
@@ -265,7 +265,7 @@ fn legend<DB: DrawingBackend>(
 }
 
 /// "quantity (unit)", with the axis's power of ten: "time (×10⁻⁹ s)".
-fn axis_title(quantity: &str, unit: &str, axis: &Axis) -> String {
+pub(super) fn axis_title(quantity: &str, unit: &str, axis: &Axis) -> String {
     match (&axis.factor, unit) {
         (None, "") => quantity.to_string(),
         (None, unit) => format!("{quantity} ({unit})"),

@@ -33,7 +33,7 @@ const ENERGY_TERMS: [(&str, RGBColor); 5] = [
 const LINE: f64 = 1.6;
 const THICK: f64 = 2.4;
 
-fn colour(index: usize) -> RGBColor {
+pub(super) fn colour(index: usize) -> RGBColor {
     PALETTE[index % PALETTE.len()]
 }
 

@@ -22,12 +22,14 @@ mod figure;
 mod figures;
 mod files;
 pub mod font;
+mod stability;
 mod table;
 
 use std::str::FromStr;
 
 pub use error::PlotError;
 pub use files::{compare_out_dir, plot_compare, plot_run, read_run, run_name, DIAGNOSTICS};
+pub use stability::{stability_png, StabilityPoint};
 pub use table::{DiagnosticsTable, REQUIRED_COLUMNS};
 
 /// Smallest plot width or height accepted (px).

@@ -46,6 +46,7 @@ pub use wind_field::{Gusts, Turbulence, WindField};
 
 use crate::body::Body;
 use crate::collide::Collider;
+use crate::contact::Contacts;
 use crate::measure::Energies;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
@@ -67,6 +68,8 @@ pub struct ForceContext<'a> {
     pub bodies: &'a [Body],
     /// The world's colliders (penalty contacts read them).
     pub colliders: &'a [Collider],
+    /// Contact between bodies: settings and the step's candidate pairs.
+    pub contacts: &'a Contacts,
 }
 
 /// The weights of a Jacobian product: `position ∂f/∂x·p + velocity ∂f/∂v·p`.

@@ -17,6 +17,7 @@ mod euler;
 mod implicit;
 mod midpoint;
 mod rk4;
+mod rk45;
 mod symplectic_euler;
 mod verlet;
 
@@ -24,6 +25,7 @@ pub use euler::ExplicitEuler;
 pub use implicit::{ImplicitEuler, Preconditioner, Projective, SolverSettings};
 pub use midpoint::Midpoint;
 pub use rk4::RungeKutta4;
+pub use rk45::RungeKutta45;
 pub use symplectic_euler::SymplecticEuler;
 pub use verlet::Verlet;
 
@@ -112,9 +114,36 @@ pub struct StepReport {
     /// The final relative residual of the linear solve (implicit Euler);
     /// `None` where there is none.
     pub residual: Option<Real>,
-    /// False when the solver stopped at its iteration limit above its
+    /// True when the solver stopped at its iteration limit above its
     /// tolerance: the step was taken, but less accurately than asked.
     pub unconverged: bool,
+    /// Internal steps taken (adaptive `rk45`, or `substeps` of the world);
+    /// `None` for one plain step.
+    pub substeps: Option<u32>,
+    /// The length of the last internal step (s), where there were any.
+    pub step_size: Option<Real>,
+}
+
+impl StepReport {
+    /// This report followed by `next`, over consecutive substeps:
+    /// iterations and internal steps add up, the residual is the larger,
+    /// an unconverged solve in either is kept.
+    pub fn then(self, next: StepReport) -> StepReport {
+        let add = |a: Option<u32>, b: Option<u32>| match (a, b) {
+            (None, None) => None,
+            (a, b) => Some(a.unwrap_or(0) + b.unwrap_or(0)),
+        };
+        StepReport {
+            iterations: add(self.iterations, next.iterations),
+            residual: match (self.residual, next.residual) {
+                (Some(a), Some(b)) => Some(a.max(b)),
+                (a, b) => a.or(b),
+            },
+            unconverged: self.unconverged || next.unconverged,
+            substeps: add(self.substeps, next.substeps),
+            step_size: next.step_size.or(self.step_size),
+        }
+    }
 }
 
 /// A time-stepping method.
@@ -145,6 +174,9 @@ pub enum IntegratorKind {
     Midpoint,
     /// Classic Runge-Kutta, order 4.
     Rk4,
+    /// Adaptive Runge–Kutta (Dormand–Prince 5(4)), order 5, its internal
+    /// steps chosen to keep the local error within `error_tolerance`.
+    Rk45,
     /// Position (Störmer) Verlet, order 2.
     Verlet,
     /// Implicit (backward) Euler by Newton's method and preconditioned
@@ -157,11 +189,12 @@ pub enum IntegratorKind {
 
 impl IntegratorKind {
     /// Every integrator, in the order of the documentation.
-    pub const ALL: [IntegratorKind; 7] = [
+    pub const ALL: [IntegratorKind; 8] = [
         IntegratorKind::Euler,
         IntegratorKind::SymplecticEuler,
         IntegratorKind::Midpoint,
         IntegratorKind::Rk4,
+        IntegratorKind::Rk45,
         IntegratorKind::Verlet,
         IntegratorKind::ImplicitEuler,
         IntegratorKind::Projective,
@@ -174,6 +207,7 @@ impl IntegratorKind {
             IntegratorKind::SymplecticEuler => "symplectic_euler",
             IntegratorKind::Midpoint => "midpoint",
             IntegratorKind::Rk4 => "rk4",
+            IntegratorKind::Rk45 => "rk45",
             IntegratorKind::Verlet => "verlet",
             IntegratorKind::ImplicitEuler => "implicit_euler",
             IntegratorKind::Projective => "projective",
@@ -194,6 +228,7 @@ impl IntegratorKind {
             | IntegratorKind::Projective => 1,
             IntegratorKind::Midpoint | IntegratorKind::Verlet => 2,
             IntegratorKind::Rk4 => 4,
+            IntegratorKind::Rk45 => 5,
         }
     }
 
@@ -213,6 +248,7 @@ impl IntegratorKind {
         match self {
             IntegratorKind::Midpoint => 2,
             IntegratorKind::Rk4 => 4,
+            IntegratorKind::Rk45 => 5,
             _ => 1,
         }
     }
@@ -224,6 +260,7 @@ impl IntegratorKind {
             IntegratorKind::SymplecticEuler => Box::new(SymplecticEuler::default()),
             IntegratorKind::Midpoint => Box::new(Midpoint::default()),
             IntegratorKind::Rk4 => Box::new(RungeKutta4::default()),
+            IntegratorKind::Rk45 => Box::new(RungeKutta45::default()),
             IntegratorKind::Verlet => Box::new(Verlet::default()),
             IntegratorKind::ImplicitEuler => Box::new(ImplicitEuler::default()),
             IntegratorKind::Projective => Box::new(Projective::default()),

@@ -69,6 +69,9 @@ pub struct SolverSettings {
     pub iterations: u32,
     /// Implicit Euler's preconditioner. Default Jacobi.
     pub preconditioner: Preconditioner,
+    /// `rk45`'s tolerance on the local error of each internal step: relative
+    /// above 1 m (1 m/s), absolute below. Default 1e-6.
+    pub error_tolerance: Real,
 }
 
 impl Default for SolverSettings {
@@ -79,6 +82,7 @@ impl Default for SolverSettings {
             newton_iterations: 1,
             iterations: 10,
             preconditioner: Preconditioner::Jacobi,
+            error_tolerance: 1e-6,
         }
     }
 }
@@ -87,6 +91,13 @@ impl SolverSettings {
     /// Check the settings: a positive, finite tolerance below 1 and at least
     /// one iteration of each kind. Errors name the scene key.
     pub fn validate(&self) -> Result<(), BuildError> {
+        if !(self.error_tolerance.is_finite() && self.error_tolerance > 0.0) {
+            return Err(BuildError::OutOfRange {
+                field: "error_tolerance",
+                value: self.error_tolerance,
+                reason: "the local error to keep within must be positive and finite",
+            });
+        }
         if !(self.tolerance.is_finite() && self.tolerance > 0.0 && self.tolerance < 1.0) {
             return Err(BuildError::OutOfRange {
                 field: "solver_tolerance",

@@ -137,7 +137,7 @@ impl Integrator for Projective {
         let mut report = StepReport {
             iterations: Some(solver.iterations),
             residual: Some(0.0),
-            unconverged: false,
+            ..StepReport::default()
         };
         let time = time + dt;
         for iteration in 0..solver.iterations {

@@ -1,0 +1,135 @@
+//! The penalty force of the contacts between bodies, as an entry of the
+//! world's force list (see the module documentation of [`super`]).
+
+use super::pairs::Touch;
+use crate::collide::FRICTION_REGULARISATION;
+use crate::forces::{Force, ForceContext, JacobianScale, Linearization};
+use crate::measure::Energies;
+use crate::{Real, Vec3};
+
+/// The penalty forces of the candidate contact pairs of the step (reads
+/// `ForceContext::contacts`).
+///
+/// For a pair closer than the thickness `h` at distance `d` along the
+/// normal `n` (from the second side to the first), with relative velocity
+/// `u` of the closest points: a normal force `f_n = max(0, k (h - d) - c
+/// (u·n))` pushes the sides apart, and friction `-μ f_n u_t / √(|u_t|² +
+/// v_ε²)` acts against the relative tangential velocity `u_t` (Coulomb's
+/// `μ f_n` when sliding, regularised below `v_ε =`
+/// [`FRICTION_REGULARISATION`]). Jacobians: `-k n nᵀ` and `-c n nᵀ` on the
+/// relative motion of pairs that push (friction and the turning of the
+/// normal left out: [`Linearization::Approximate`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BodyContacts {
+    /// The pairs that pushed at the last linearisation.
+    active: Vec<Active>,
+}
+
+/// A pushing pair at the linearisation state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Active {
+    touch: Touch,
+    /// Penalty stiffness (N/m).
+    stiffness: Real,
+    /// Penalty damping (N·s/m).
+    damping: Real,
+}
+
+impl BodyContacts {
+    /// Body contacts with nothing linearised yet.
+    pub fn new() -> Self {
+        BodyContacts::default()
+    }
+}
+
+/// The stiffness and damping of `touch` in `context` (from the mass of its
+/// first particle: the particle of a point–element pair).
+fn coefficients(context: &ForceContext, touch: &Touch) -> (Real, Real) {
+    let mass = context.mass[touch.particles[0] as usize];
+    context.contacts.settings.coefficients(mass)
+}
+
+impl Force for BodyContacts {
+    fn name(&self) -> &'static str {
+        "body contacts"
+    }
+
+    fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
+        let contacts = context.contacts;
+        let friction = contacts.settings.friction;
+        contacts
+            .pairs
+            .for_each_touch(context.position, contacts.settings.thickness, |touch| {
+                let (k, c) = coefficients(context, &touch);
+                let relative = touch.relative(context.velocity);
+                let normal_speed = relative.dot(touch.normal);
+                let push = (k * touch.depth - c * normal_speed).max(0.0);
+                let mut f = push * touch.normal;
+                if friction > 0.0 && push > 0.0 {
+                    let sliding = relative - normal_speed * touch.normal;
+                    let scale = (sliding.length_squared() + FRICTION_REGULARISATION.powi(2)).sqrt();
+                    f -= friction * push * sliding / scale;
+                }
+                touch.apply(f, force);
+            });
+    }
+
+    fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
+        let contacts = context.contacts;
+        contacts
+            .pairs
+            .for_each_touch(context.position, contacts.settings.thickness, |touch| {
+                let (k, _) = coefficients(context, &touch);
+                energies.contact += 0.5 * k * touch.depth * touch.depth;
+            });
+    }
+
+    fn linearize(&mut self, context: &ForceContext) -> Linearization {
+        self.active.clear();
+        let contacts = context.contacts;
+        contacts
+            .pairs
+            .for_each_touch(context.position, contacts.settings.thickness, |touch| {
+                let (stiffness, damping) = coefficients(context, &touch);
+                let normal_speed = touch.relative(context.velocity).dot(touch.normal);
+                if stiffness * touch.depth - damping * normal_speed > 0.0 {
+                    self.active.push(Active {
+                        touch,
+                        stiffness,
+                        damping,
+                    });
+                }
+            });
+        Linearization::Approximate
+    }
+
+    fn add_jacobian_products(
+        &self,
+        _context: &ForceContext,
+        scale: JacobianScale,
+        p: &[Vec3],
+        out: &mut [Vec3],
+    ) {
+        for a in &self.active {
+            let weight = scale.position * a.stiffness + scale.velocity * a.damping;
+            let along = a.touch.relative(p).dot(a.touch.normal);
+            a.touch.apply(-weight * along * a.touch.normal, out);
+        }
+    }
+
+    fn add_jacobian_diagonal(
+        &self,
+        _context: &ForceContext,
+        scale: JacobianScale,
+        diagonal: &mut [Vec3],
+    ) {
+        for a in &self.active {
+            let weight = scale.position * a.stiffness + scale.velocity * a.damping;
+            let n2 = a.touch.normal * a.touch.normal;
+            for k in 0..a.touch.count {
+                let w = a.touch.weights[k];
+                diagonal[a.touch.particles[k] as usize] -= weight * w * w * n2;
+            }
+        }
+    }
+}

@@ -1,0 +1,164 @@
+//! The broad phase: a uniform grid of cubic cells over space, stored as a
+//! hash table in compressed rows (counting sort), rebuilt once per step.
+//! An element (a triangle, an edge, a particle grown by the contact
+//! distance) is entered in every cell its bounding box overlaps; a query
+//! visits the elements of the cells a box overlaps. Building and querying
+//! cost time linear in the number of entries; the buffers are kept, so a
+//! step allocates nothing once they have grown. Entries keep the order of
+//! the elements, so the candidates come out in the same order whatever the
+//! hashing.
+
+use crate::{Real, Vec3};
+
+/// Most cells one box may cover along an axis: a larger box is entered in
+/// this many (its candidates are still found, through the cells it covers
+/// in the middle of its range it is only less selective).
+const MAX_CELLS_PER_AXIS: i64 = 16;
+
+/// A uniform grid over boxes, hashed into compressed rows.
+#[derive(Debug, Clone, Default)]
+pub struct Grid {
+    /// Cell side (m).
+    cell: Real,
+    /// Per bucket, the start of its entries (one more than the buckets).
+    start: Vec<u32>,
+    /// Entries `(cell key, element)`, grouped by bucket.
+    entries: Vec<(u64, u32)>,
+    /// Scratch: the entries before grouping.
+    scratch: Vec<(u64, u32)>,
+    /// Scratch: the next free place of each bucket while filling.
+    fill: Vec<u32>,
+}
+
+/// The integer cell of coordinate `x` (m) in cells of side `cell`.
+fn cell_of(x: Real, cell: Real) -> i64 {
+    (x / cell).floor().clamp(-1e15, 1e15) as i64
+}
+
+/// A key for cell `(i, j, k)`: the three coordinates folded into 64 bits.
+fn key(i: i64, j: i64, k: i64) -> u64 {
+    // Large odd multipliers spread neighbouring cells over the table.
+    (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+        ^ (k as u64).wrapping_mul(0x1656_67B1_9E37_79F9)
+}
+
+/// The cell ranges `[lo, hi]` a box covers, capped per axis.
+fn cell_range(low: Vec3, high: Vec3, cell: Real) -> ([i64; 3], [i64; 3]) {
+    let lo = [
+        cell_of(low.x, cell),
+        cell_of(low.y, cell),
+        cell_of(low.z, cell),
+    ];
+    let mut hi = [
+        cell_of(high.x, cell),
+        cell_of(high.y, cell),
+        cell_of(high.z, cell),
+    ];
+    for axis in 0..3 {
+        hi[axis] = hi[axis].clamp(lo[axis], lo[axis] + MAX_CELLS_PER_AXIS - 1);
+    }
+    (lo, hi)
+}
+
+impl Grid {
+    /// Rebuild the grid with cells of side `cell` (m) over `boxes`: element
+    /// `e` (its index in the iterator) covers the box `(low, high)` (m).
+    pub fn build(&mut self, cell: Real, boxes: impl Iterator<Item = (Vec3, Vec3)>) {
+        self.cell = cell;
+        self.scratch.clear();
+        for (element, (low, high)) in boxes.enumerate() {
+            let (lo, hi) = cell_range(low, high, cell);
+            for i in lo[0]..=hi[0] {
+                for j in lo[1]..=hi[1] {
+                    for k in lo[2]..=hi[2] {
+                        self.scratch.push((key(i, j, k), element as u32));
+                    }
+                }
+            }
+        }
+        let buckets = (2 * self.scratch.len()).max(1);
+        self.start.clear();
+        self.start.resize(buckets + 1, 0);
+        for &(key, _) in &self.scratch {
+            self.start[bucket(key, buckets) + 1] += 1;
+        }
+        for b in 0..buckets {
+            self.start[b + 1] += self.start[b];
+        }
+        self.entries.clear();
+        self.entries.resize(self.scratch.len(), (0, 0));
+        // Fill each bucket in element order (a stable counting sort).
+        self.fill.clear();
+        self.fill.extend_from_slice(&self.start);
+        for &(key, element) in &self.scratch {
+            let b = bucket(key, buckets);
+            self.entries[self.fill[b] as usize] = (key, element);
+            self.fill[b] += 1;
+        }
+    }
+
+    /// Call `visit` with each element entered in a cell that the box
+    /// `(low, high)` (m) overlaps; an element may come more than once (one
+    /// per shared cell), and an element of another cell that hashes to the
+    /// same bucket never does.
+    pub fn query(&self, low: Vec3, high: Vec3, mut visit: impl FnMut(u32)) {
+        let buckets = self.start.len().saturating_sub(1);
+        if buckets == 0 || self.entries.is_empty() {
+            return;
+        }
+        let (lo, hi) = cell_range(low, high, self.cell);
+        for i in lo[0]..=hi[0] {
+            for j in lo[1]..=hi[1] {
+                for k in lo[2]..=hi[2] {
+                    let wanted = key(i, j, k);
+                    let b = bucket(wanted, buckets);
+                    let range = self.start[b] as usize..self.start[b + 1] as usize;
+                    for &(entry_key, element) in &self.entries[range] {
+                        if entry_key == wanted {
+                            visit(element);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The bucket of `key` in a table of `buckets`.
+fn bucket(key: u64, buckets: usize) -> usize {
+    (key % buckets as u64) as usize
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_overlapping_box_is_found_and_far_ones_are_not() {
+        let boxes: Vec<(Vec3, Vec3)> = (0..50)
+            .map(|i| {
+                let low = Vec3::new(i as Real * 0.3, (i % 7) as Real * 0.2, 0.0);
+                (low, low + Vec3::splat(0.25))
+            })
+            .collect();
+        let mut grid = Grid::default();
+        grid.build(0.25, boxes.iter().copied());
+        let overlaps =
+            |a: (Vec3, Vec3), b: (Vec3, Vec3)| a.0.cmple(b.1).all() && b.0.cmple(a.1).all();
+        for (q, query) in boxes.iter().enumerate() {
+            let mut found = vec![false; boxes.len()];
+            grid.query(query.0, query.1, |e| found[e as usize] = true);
+            for (e, other) in boxes.iter().enumerate() {
+                if overlaps(*query, *other) {
+                    assert!(found[e], "box {q} misses its overlap with {e}");
+                }
+            }
+            assert!(found[q]);
+        }
+        // A box far from everything finds nothing.
+        let mut any = false;
+        grid.query(Vec3::splat(100.0), Vec3::splat(100.1), |_| any = true);
+        assert!(!any);
+    }
+}

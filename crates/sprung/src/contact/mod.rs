@@ -1,0 +1,136 @@
+//! Contact between bodies (PHYSICS.md §5): every body against every other,
+//! and a surface against itself where asked.
+//!
+//! **Method: penalty forces with a thickness.** A particle closer than the
+//! contact thickness `h` to a triangle of another body (a segment in 2D), an
+//! edge closer than `h` to another edge (where a surface is open: cloth),
+//! and two particles of bodies without surfaces closer than `h`, are pushed
+//! apart by a spring `k (h - d)` along the contact normal with damping on
+//! the normal relative velocity and regularised Coulomb friction on the
+//! tangential one. Each force is shared among the vertices of the element
+//! by the weights of the closest point, with the opposite force on the
+//! other side, so linear momentum is conserved exactly.
+//!
+//! Why penalty rather than impulses or projection: a penalty contact is a
+//! force, so it is one more entry of the world's force list. It works
+//! unchanged with every integrator, explicit or implicit (its Jacobian,
+//! `-k n nᵀ` on the relative motion, joins the implicit solves, so stiff
+//! contacts are stable at large steps), it has an energy (`½ k (h - d)²`, the
+//! `contact` term), and it is smooth, which the higher-order integrators
+//! need. Its stiffness bounds the explicit time step like a spring does;
+//! `substeps = "auto"` accounts for it. By default the stiffness is chosen
+//! per contact from the particle's mass: `k = m (v_ref / h)²` with
+//! `v_ref =` [`REFERENCE_SPEED`], so that a particle arriving at that
+//! speed is stopped within the thickness, and the damping is
+//! `c = m v_ref / h` (half of critical).
+//!
+//! **Stages.** The *detect* stage ([`Contacts::detect`]) runs once per step
+//! before integrating: a uniform grid ([`grid`]) finds, in time linear in
+//! the number of elements, every pair of elements within the thickness
+//! plus a margin covering the step's motion, and keeps them as candidate
+//! pairs ([`ContactPairs`]). The penalty force ([`BodyContacts`]) evaluates
+//! only those pairs, at every trial state the integrator asks for.
+//!
+//! **Sides.** A closed surface pushes along its outward normal, so a
+//! particle that got inside is pushed out. An open surface (cloth) pushes
+//! towards the side the particle was on when the pair was found, at the
+//! start of the step, so a particle that crossed within a step is pushed
+//! back, not on through.
+
+pub mod geometry;
+pub mod grid;
+
+mod detect;
+mod force;
+mod pairs;
+
+pub use force::BodyContacts;
+pub use pairs::{ContactPairs, EdgeEdge, PointPoint, PointSegment, PointTriangle};
+
+use crate::error::BuildError;
+use crate::Real;
+
+/// The speed (m/s) a particle arriving at a contact is stopped from within
+/// the thickness by the default stiffness.
+pub const REFERENCE_SPEED: Real = 10.0;
+
+/// The contact thickness by default (m).
+pub const DEFAULT_THICKNESS: Real = 0.01;
+
+/// How bodies touch (the `[contact]` scene table).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactSettings {
+    /// Contact between bodies on or off. Default on.
+    pub enabled: bool,
+    /// Distance (m) below which surfaces push apart. Default 1 cm.
+    pub thickness: Real,
+    /// Coulomb friction coefficient `μ` on the relative tangential velocity.
+    /// Default 0.
+    pub friction: Real,
+    /// Penalty stiffness (N/m); `None`: `m (v_ref / h)²` per contact.
+    pub stiffness: Option<Real>,
+    /// Penalty damping on the normal relative velocity (N·s/m); `None`:
+    /// `m v_ref / h` per contact.
+    pub damping: Option<Real>,
+}
+
+impl Default for ContactSettings {
+    fn default() -> Self {
+        ContactSettings {
+            enabled: true,
+            thickness: DEFAULT_THICKNESS,
+            friction: 0.0,
+            stiffness: None,
+            damping: None,
+        }
+    }
+}
+
+impl ContactSettings {
+    /// Check the settings; errors name the `[contact]` key.
+    pub fn validate(&self) -> Result<(), BuildError> {
+        let checks = [
+            ("contact.thickness", Some(self.thickness), true),
+            ("contact.friction", Some(self.friction), false),
+            ("contact.stiffness", self.stiffness, true),
+            ("contact.damping", self.damping, false),
+        ];
+        for (field, value, positive) in checks {
+            let Some(value) = value else { continue };
+            let bad = !value.is_finite() || value < 0.0 || (positive && value == 0.0);
+            if bad {
+                return Err(BuildError::OutOfRange {
+                    field,
+                    value,
+                    reason: if positive {
+                        "must be positive and finite"
+                    } else {
+                        "must be finite and not negative"
+                    },
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The penalty stiffness (N/m) and damping (N·s/m) of a contact whose
+    /// particle has mass `mass` (kg).
+    pub fn coefficients(&self, mass: Real) -> (Real, Real) {
+        let rate = REFERENCE_SPEED / self.thickness;
+        (
+            self.stiffness.unwrap_or(mass * rate * rate),
+            self.damping.unwrap_or(mass * rate),
+        )
+    }
+}
+
+/// The contact state of a world: settings, the candidate pairs of the
+/// current step, and the broad phase's buffers.
+#[derive(Debug, Clone, Default)]
+pub struct Contacts {
+    /// How bodies touch.
+    pub settings: ContactSettings,
+    /// The candidate pairs found by the last detect stage.
+    pub pairs: ContactPairs,
+    scratch: detect::Scratch,
+}
