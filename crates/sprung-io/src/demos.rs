@@ -105,6 +105,36 @@ pub const DEMOS: &[Demo] = &[
         every_integrator: false,
     },
     Demo {
+        name: "collide",
+        about: "two gas balls thrown at each other: they squash and bounce apart",
+        text: include_str!("../../../scenes/collide.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "stack",
+        about: "three gas balls dropped into a tube settle, resting on each other",
+        text: include_str!("../../../scenes/stack.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "pile2d",
+        about: "a dozen 2D gas rings poured into a box pile up",
+        text: include_str!("../../../scenes/pile2d.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "fold",
+        about: "a cloth dropped upright folds over onto itself without passing through",
+        text: include_str!("../../../scenes/fold.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "cover",
+        about: "a cloth dropped over a gas ball resting on the floor",
+        text: include_str!("../../../scenes/cover.toml"),
+        every_integrator: false,
+    },
+    Demo {
         name: "cloth",
         about: "a cloth hanging from two corners",
         text: include_str!("../../../scenes/cloth.toml"),

@@ -487,3 +487,66 @@ fn solver_keys() {
         assert!(scene.is_ok(), "{integrator} {key}: {:?}", scene.err());
     }
 }
+
+/// The `[contact]` table, the per-body contact keys and `substeps`.
+#[test]
+fn contact_and_substep_keys() {
+    let contact = |table: &str| format!("{GOOD}\n[contact]\n{table}\n");
+    // GOOD has 9 lines; the table's header is line 11, its key line 12.
+    assert_error(
+        &contact("thickness = -0.01"),
+        12,
+        &["thickness", "positive"],
+    );
+    assert_error(&contact("thickness = 0.0"), 12, &["thickness"]);
+    assert_error(&contact("friction = -1.0"), 12, &["friction", "negative"]);
+    assert_error(&contact("stiffness = 0.0"), 12, &["stiffness"]);
+    assert_error(&contact("radius = 1.0"), 12, &["radius"]);
+    assert!(parse_scene(
+        &contact("thickness = 0.02\nfriction = 0.5"),
+        Path::new("good.toml")
+    )
+    .is_ok());
+    // Self-collision needs a surface: GOOD's body is a chain of particles.
+    assert_error(
+        &variant("mass = 1.0", "mass = 1.0\nself_collision = true"),
+        10,
+        &["self_collision", "surface"],
+    );
+    let scene = parse_scene(
+        &variant("mass = 1.0", "mass = 1.0\ncollide = false"),
+        Path::new("good.toml"),
+    )
+    .expect("valid scene");
+    assert!(!scene.world.bodies[0].contact.collide);
+    // substeps: a count or "auto".
+    let substeps =
+        |value: &str| variant("steps = 10\n", &format!("steps = 10\nsubsteps = {value}\n"));
+    assert_error(
+        &substeps("\"sometimes\""),
+        4,
+        &["substeps", "sometimes", "auto"],
+    );
+    assert_error(&substeps("0"), 4, &["substeps", "from 1"]);
+    assert_error(&substeps("-2"), 4, &["substeps"]);
+    for good in ["\"auto\"", "4"] {
+        assert!(
+            parse_scene(&substeps(good), Path::new("good.toml")).is_ok(),
+            "{good}"
+        );
+    }
+    // error_tolerance belongs to rk45.
+    let tolerance = |integrator: &str, value: &str| {
+        variant(
+            "steps = 10\n",
+            &format!("steps = 10\nintegrator = \"{integrator}\"\nerror_tolerance = {value}\n"),
+        )
+    };
+    assert_error(&tolerance("rk4", "1e-6"), 5, &["error_tolerance", "rk45"]);
+    assert_error(
+        &tolerance("rk45", "0.0"),
+        5,
+        &["error_tolerance", "positive"],
+    );
+    assert!(parse_scene(&tolerance("rk45", "1e-8"), Path::new("good.toml")).is_ok());
+}

@@ -268,6 +268,13 @@ impl World {
             report = report.then(self.integrate(h)?);
             self.advance_time(h);
             self.collide();
+            self.contacts.apply_friction(
+                &mut self.particles.position,
+                &mut self.particles.velocity,
+                &self.particles.mass,
+                &self.particles.inverse_mass,
+                h,
+            );
         }
         if substeps > 1 {
             report.substeps = Some(substeps);

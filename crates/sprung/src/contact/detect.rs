@@ -2,8 +2,10 @@
 
 use super::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
 use super::grid::Grid;
-use super::{ContactPairs, Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
-use crate::body::Body;
+use super::{
+    ContactPairs, ContactSettings, Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle,
+};
+use crate::body::{Body, BodyContact};
 use crate::{Real, Vec3};
 
 /// Marks a particle of no colliding body.
@@ -23,10 +25,28 @@ pub(super) struct Scratch {
     /// Particles of colliding bodies without a surface, as one-point
     /// elements.
     loose: Vec<([u32; 1], u32)>,
+    /// Particles that may touch another body (or their own): those that
+    /// look for elements.
+    querying: Vec<u32>,
+    /// Per body, its bounding box grown by half the reach (colliding
+    /// bodies only).
+    body_box: Vec<(Vec3, Vec3)>,
+    /// Per body, the bodies whose boxes overlap its own:
+    /// `near[near_start[b]..near_start[b + 1]]`.
+    near_start: Vec<u32>,
+    near: Vec<u32>,
     /// The grown bounding box of each element of the current grid.
     boxes: Vec<(Vec3, Vec3)>,
     /// Per element, the last query that visited it (plus one).
     seen: Vec<u32>,
+    /// Positions at the last search (empty before any).
+    searched_at: Vec<Vec3>,
+    /// The margin (m) beyond the thickness that search covered.
+    searched_margin: Real,
+    /// The contact settings and the bodies' contact flags of the last
+    /// search.
+    searched_settings: Option<ContactSettings>,
+    searched_flags: Vec<BodyContact>,
 }
 
 /// The bounding box of `points`, grown by `margin` (m) on every side.
@@ -47,31 +67,169 @@ fn side_of(offset: Vec3, face: Vec3) -> Real {
     }
 }
 
+/// Whether two boxes overlap.
+fn overlap(a: (Vec3, Vec3), b: (Vec3, Vec3)) -> bool {
+    a.0.cmple(b.1).all() && b.0.cmple(a.1).all()
+}
+
 impl Scratch {
-    /// Gather the colliding bodies' elements.
-    fn collect(&mut self, bodies: &[Body], particles: usize) {
+    /// Whether the pairs of the last search still hold every pair that can
+    /// touch in a step whose closing distance is `closing` (m): same
+    /// particles and settings, and twice the largest distance moved since,
+    /// plus `closing`, within the margin searched.
+    fn still_covers(
+        &self,
+        bodies: &[Body],
+        position: &[Vec3],
+        closing: Real,
+        settings: &ContactSettings,
+    ) -> bool {
+        let same_bodies = self.searched_flags.len() == bodies.len()
+            && self
+                .searched_flags
+                .iter()
+                .zip(bodies)
+                .all(|(flags, body)| *flags == body.contact);
+        if !same_bodies
+            || self.searched_at.len() != position.len()
+            || self.searched_settings != Some(*settings)
+        {
+            return false;
+        }
+        let moved = position
+            .iter()
+            .zip(&self.searched_at)
+            .map(|(x, x0)| x.distance_squared(*x0))
+            .fold(0.0, Real::max)
+            .sqrt();
+        2.0 * moved + closing <= self.searched_margin
+    }
+
+    /// Remember a search from `position` (m) with `margin` (m).
+    fn searched(
+        &mut self,
+        bodies: &[Body],
+        position: &[Vec3],
+        margin: Real,
+        settings: &ContactSettings,
+    ) {
+        self.searched_flags.clear();
+        self.searched_flags.extend(bodies.iter().map(|b| b.contact));
+        self.searched_at.clear();
+        self.searched_at.extend_from_slice(position);
+        self.searched_margin = margin;
+        self.searched_settings = Some(*settings);
+    }
+
+    /// The bodies whose boxes overlap the box of body `b`.
+    fn near(&self, b: u32) -> &[u32] {
+        &self.near[self.near_start[b as usize] as usize..self.near_start[b as usize + 1] as usize]
+    }
+
+    /// Whether a box of body `b` may meet another body's (or its own, if
+    /// it collides with itself).
+    fn may_touch(&self, bodies: &[Body], b: u32, low: Vec3, high: Vec3) -> bool {
+        bodies[b as usize].contact.self_collision
+            || self
+                .near(b)
+                .iter()
+                .any(|&other| overlap((low, high), self.body_box[other as usize]))
+    }
+
+    /// The broad phase between bodies: each colliding body's box (grown by
+    /// half of `reach`, m) and the other bodies it overlaps, from a grid of
+    /// body boxes.
+    fn near_bodies(&mut self, bodies: &[Body], position: &[Vec3], reach: Real) {
+        let colliding = |b: &Body| b.contact.collide && !b.particles.is_empty();
+        self.body_box.clear();
+        self.body_box.extend(bodies.iter().map(|b| {
+            if colliding(b) {
+                bounds(position[b.particles.clone()].iter().copied(), 0.5 * reach)
+            } else {
+                (Vec3::splat(Real::INFINITY), Vec3::splat(Real::NEG_INFINITY))
+            }
+        }));
+        let extent = self
+            .body_box
+            .iter()
+            .zip(bodies)
+            .filter(|(_, b)| colliding(b))
+            .map(|((low, high), _)| (*high - *low).max_element())
+            .fold(0.0, Real::max);
+        self.grid
+            .build(extent.max(reach).max(1e-9), self.body_box.iter().copied());
+        self.near_start.clear();
+        self.near.clear();
+        self.near_start.push(0);
+        for (b, body) in bodies.iter().enumerate() {
+            if colliding(body) {
+                let (grid, near, boxes) = (&self.grid, &mut self.near, &self.body_box);
+                let start = near.len();
+                grid.query(boxes[b].0, boxes[b].1, |other| {
+                    let other_body = &bodies[other as usize];
+                    if other as usize != b
+                        && colliding(other_body)
+                        && overlap(boxes[b], boxes[other as usize])
+                        && !near[start..].contains(&other)
+                    {
+                        near.push(other);
+                    }
+                });
+            }
+            self.near_start.push(self.near.len() as u32);
+        }
+    }
+
+    /// Gather the elements of colliding bodies that may meet another body
+    /// (or their own), and the particles that may.
+    fn collect(&mut self, bodies: &[Body], position: &[Vec3], reach: Real) {
+        self.near_bodies(bodies, position, reach);
         self.body_of.clear();
-        self.body_of.resize(particles, NONE);
+        self.body_of.resize(position.len(), NONE);
         self.triangles.clear();
         self.segments.clear();
         self.edges.clear();
         self.loose.clear();
+        self.querying.clear();
+        let x = |i: u32| position[i as usize];
         for (index, body) in bodies.iter().enumerate() {
-            if !body.contact.collide {
+            let index = index as u32;
+            if !body.contact.collide
+                || (!body.contact.self_collision && self.near(index).is_empty())
+            {
                 continue;
             }
-            let index = index as u32;
             for i in body.particles.clone() {
                 self.body_of[i] = index;
+                if self.may_touch(bodies, index, position[i], position[i]) {
+                    self.querying.push(i as u32);
+                }
             }
-            self.triangles
-                .extend(body.faces.iter().map(|&f| (f, index)));
-            self.segments
-                .extend(body.segments.iter().map(|&s| (s, index)));
-            self.edges.extend(body.edges.iter().map(|&e| (e, index)));
+            let margin = 0.5 * reach;
+            for &f in &body.faces {
+                let (low, high) = bounds(f.iter().map(|&i| x(i)), margin);
+                if self.may_touch(bodies, index, low, high) {
+                    self.triangles.push((f, index));
+                }
+            }
+            for &s in &body.segments {
+                let (low, high) = bounds(s.iter().map(|&i| x(i)), margin);
+                if self.may_touch(bodies, index, low, high) {
+                    self.segments.push((s, index));
+                }
+            }
+            for &e in &body.edges {
+                let (low, high) = bounds(e.iter().map(|&i| x(i)), margin);
+                if self.may_touch(bodies, index, low, high) {
+                    self.edges.push((e, index));
+                }
+            }
             if body.faces.is_empty() && body.segments.is_empty() {
-                self.loose
-                    .extend(body.particles.clone().map(|i| ([i as u32], index)));
+                for i in body.particles.clone() {
+                    if self.may_touch(bodies, index, position[i], position[i]) {
+                        self.loose.push(([i as u32], index));
+                    }
+                }
             }
         }
     }
@@ -139,11 +297,8 @@ impl Search<'_> {
         }
         scratch.build(elements, self.position, self.reach, self.reach);
         let scratch = &*scratch;
-        for particle in 0..self.position.len() as u32 {
+        for &particle in &scratch.querying {
             let body = scratch.body_of[particle as usize];
-            if body == NONE {
-                continue;
-            }
             let p = self.x(particle);
             scratch.grid.query(p, p, |e| {
                 let (element, element_body) = elements(scratch)[e as usize];
@@ -157,11 +312,14 @@ impl Search<'_> {
     }
 
     /// Pairs of elements of `elements` with each other within reach (each
-    /// pair once); `pair` gets both, with their bodies.
+    /// pair once); `pair` gets both, with their bodies. Only elements whose
+    /// body `asks` look for partners (the others are found by them): edges
+    /// of closed surfaces need no partner among themselves.
     fn among<const N: usize>(
         &self,
         scratch: &mut Scratch,
         elements: Elements<N>,
+        asks: impl Fn(u32) -> bool,
         mut pair: impl FnMut(([u32; N], u32), ([u32; N], u32)),
     ) {
         let count = elements(scratch).len();
@@ -173,15 +331,21 @@ impl Search<'_> {
         let built = &*scratch;
         let list = elements(built);
         for first in 0..count {
+            if !asks(list[first].1) {
+                continue;
+            }
             let (low, high) = built.boxes[first];
             built.grid.query(low, high, |second| {
                 let second = second as usize;
-                if second <= first || seen[second] == first as u32 + 1 {
+                // Each pair once: from the lower index, unless only the
+                // higher one asks.
+                let once = second > first || !asks(list[second].1);
+                if !once || second == first || seen[second] == first as u32 + 1 {
                     return;
                 }
                 seen[second] = first as u32 + 1;
                 let (a, b) = (list[first], list[second]);
-                if self.allowed(a.1, b.1) {
+                if self.allowed(a.1, b.1) && overlap((low, high), built.boxes[second]) {
                     pair(a, b);
                 }
             });
@@ -191,33 +355,55 @@ impl Search<'_> {
 }
 
 impl Contacts {
-    /// The detect stage: find every pair of elements of colliding bodies
-    /// within the thickness plus the distance two particles moving at the
-    /// fastest speed now can close in a step of `dt` (s), as candidate pairs
-    /// for the step's force evaluations.
+    /// The detect stage: make sure the candidate pairs hold every pair of
+    /// elements of colliding bodies that can come within the thickness
+    /// during a step of `dt` (s) from `position` (m) at `velocity` (m/s).
+    ///
+    /// Pairs are searched within the thickness plus a margin: twice the
+    /// thickness plus the distance two particles at the fastest speed now
+    /// close in the step. They are kept for the following steps for as long
+    /// as that margin still covers the motion (twice the largest distance a
+    /// particle has moved since, plus the step's closing distance), so a
+    /// slow scene searches every few steps, never missing a pair.
     pub fn detect(&mut self, bodies: &[Body], position: &[Vec3], velocity: &[Vec3], dt: Real) {
-        self.pairs.clear();
         let colliding = bodies.iter().filter(|b| b.contact.collide).count();
         let self_colliding = bodies
             .iter()
             .any(|b| b.contact.collide && b.contact.self_collision);
         if !self.settings.enabled || (colliding < 2 && !self_colliding) {
+            self.pairs.clear();
+            self.scratch.searched_at.clear();
             return;
         }
+        let speed = bodies
+            .iter()
+            .filter(|b| b.contact.collide)
+            .flat_map(|b| velocity[b.particles.clone()].iter())
+            .map(|v| v.length())
+            .fold(0.0, Real::max)
+            .min(1e6);
+        let closing = 2.0 * dt * speed;
+        if self
+            .scratch
+            .still_covers(bodies, position, closing, &self.settings)
+        {
+            return;
+        }
+        self.pairs.clear();
         let Contacts {
             pairs,
             scratch,
             settings,
+            ..
         } = self;
-        scratch.collect(bodies, position.len());
-        let speed = (0..position.len())
-            .filter(|&i| scratch.body_of[i] != NONE)
-            .map(|i| velocity[i].length())
-            .fold(0.0, Real::max);
+        let margin = settings.thickness + closing;
+        let reach = settings.thickness + margin;
+        scratch.searched(bodies, position, margin, settings);
+        scratch.collect(bodies, position, reach);
         let search = Search {
             bodies,
             position,
-            reach: settings.thickness + 2.0 * dt * speed.min(1e6),
+            reach,
         };
         let x = |i: u32| position[i as usize];
         let ContactPairs {
@@ -264,9 +450,16 @@ impl Contacts {
             },
         );
         let reach = search.reach;
+        // Edges against edges only where a surface is open (closed ones
+        // are kept apart by their particles and triangles alone).
+        let open = |b: &Body| b.contact.collide && !b.closed && !b.faces.is_empty();
+        if !bodies.iter().any(open) {
+            scratch.edges.clear();
+        }
         search.among(
             scratch,
             |s| &s.edges,
+            |body| !bodies[body as usize].closed,
             |([p1, q1], body1), ([p2, q2], body2)| {
                 if bodies[body1 as usize].closed && bodies[body2 as usize].closed {
                     return;
@@ -294,6 +487,7 @@ impl Contacts {
         search.among(
             scratch,
             |s| &s.loose,
+            |_| true,
             |([first], body1), ([second], body2)| {
                 let gap = x(first) - x(second);
                 let distance = gap.length();

@@ -2,7 +2,6 @@
 //! world's force list (see the module documentation of [`super`]).
 
 use super::pairs::Touch;
-use crate::collide::FRICTION_REGULARISATION;
 use crate::forces::{Force, ForceContext, JacobianScale, Linearization};
 use crate::measure::Energies;
 use crate::{Real, Vec3};
@@ -13,11 +12,9 @@ use crate::{Real, Vec3};
 /// For a pair closer than the thickness `h` at distance `d` along the
 /// normal `n` (from the second side to the first), with relative velocity
 /// `u` of the closest points: a normal force `f_n = max(0, k (h - d) - c
-/// (u·n))` pushes the sides apart, and friction `-μ f_n u_t / √(|u_t|² +
-/// v_ε²)` acts against the relative tangential velocity `u_t` (Coulomb's
-/// `μ f_n` when sliding, regularised below `v_ε =`
-/// [`FRICTION_REGULARISATION`]). Jacobians: `-k n nᵀ` and `-c n nᵀ` on the
-/// relative motion of pairs that push (friction and the turning of the
+/// (u·n))` pushes the sides apart (friction acts as impulses after the
+/// step: [`super::Contacts::apply_friction`]). Jacobians: `-k n nᵀ` and
+/// `-c n nᵀ` on the relative motion of pairs that push (the turning of the
 /// normal left out: [`Linearization::Approximate`]).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct BodyContacts {
@@ -56,21 +53,13 @@ impl Force for BodyContacts {
 
     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
         let contacts = context.contacts;
-        let friction = contacts.settings.friction;
         contacts
             .pairs
             .for_each_touch(context.position, contacts.settings.thickness, |touch| {
                 let (k, c) = coefficients(context, &touch);
-                let relative = touch.relative(context.velocity);
-                let normal_speed = relative.dot(touch.normal);
+                let normal_speed = touch.relative(context.velocity).dot(touch.normal);
                 let push = (k * touch.depth - c * normal_speed).max(0.0);
-                let mut f = push * touch.normal;
-                if friction > 0.0 && push > 0.0 {
-                    let sliding = relative - normal_speed * touch.normal;
-                    let scale = (sliding.length_squared() + FRICTION_REGULARISATION.powi(2)).sqrt();
-                    f -= friction * push * sliding / scale;
-                }
-                touch.apply(f, force);
+                touch.apply(push * touch.normal, force);
             });
     }
 

@@ -35,12 +35,22 @@ fn cell_of(x: Real, cell: Real) -> i64 {
     (x / cell).floor().clamp(-1e15, 1e15) as i64
 }
 
-/// A key for cell `(i, j, k)`: the three coordinates folded into 64 bits.
+/// A key for cell `(i, j, k)`: the three coordinates folded into 64 bits
+/// and mixed (the finaliser of SplitMix64), so that neighbouring cells land
+/// in unrelated buckets.
 fn key(i: i64, j: i64, k: i64) -> u64 {
-    // Large odd multipliers spread neighbouring cells over the table.
-    (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
-        ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
-        ^ (k as u64).wrapping_mul(0x1656_67B1_9E37_79F9)
+    let mut h = (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ (j as u64)
+            .wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+            .rotate_left(21)
+        ^ (k as u64)
+            .wrapping_mul(0x1656_67B1_9E37_79F9)
+            .rotate_left(42);
+    h ^= h >> 30;
+    h = h.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    h ^= h >> 27;
+    h = h.wrapping_mul(0x94D0_49BB_1331_11EB);
+    h ^ (h >> 31)
 }
 
 /// The cell ranges `[lo, hi]` a box covers, capped per axis.
@@ -77,7 +87,7 @@ impl Grid {
                 }
             }
         }
-        let buckets = (2 * self.scratch.len()).max(1);
+        let buckets = (2 * self.scratch.len()).max(1).next_power_of_two();
         self.start.clear();
         self.start.resize(buckets + 1, 0);
         for &(key, _) in &self.scratch {
@@ -125,9 +135,9 @@ impl Grid {
     }
 }
 
-/// The bucket of `key` in a table of `buckets`.
+/// The bucket of `key` in a table of `buckets` (a power of two).
 fn bucket(key: u64, buckets: usize) -> usize {
-    (key % buckets as u64) as usize
+    (key & (buckets as u64 - 1)) as usize
 }
 
 #[cfg(test)]

@@ -6,10 +6,13 @@
 //! edge closer than `h` to another edge (where a surface is open: cloth),
 //! and two particles of bodies without surfaces closer than `h`, are pushed
 //! apart by a spring `k (h - d)` along the contact normal with damping on
-//! the normal relative velocity and regularised Coulomb friction on the
-//! tangential one. Each force is shared among the vertices of the element
-//! by the weights of the closest point, with the opposite force on the
-//! other side, so linear momentum is conserved exactly.
+//! the normal relative velocity. Each force is shared among the vertices
+//! of the element by the weights of the closest point, with the opposite
+//! force on the other side, so linear momentum is conserved exactly.
+//! Coulomb friction on the relative tangential velocity acts as impulses
+//! after each step ([`Contacts::apply_friction`]): it holds a body at rest
+//! below the friction angle, which a friction force that depends on the
+//! sliding speed cannot.
 //!
 //! Why penalty rather than impulses or projection: a penalty contact is a
 //! force, so it is one more entry of the world's force list. It works
@@ -39,9 +42,11 @@
 
 pub mod geometry;
 pub mod grid;
+pub mod inside;
 
 mod detect;
 mod force;
+mod friction;
 mod pairs;
 
 pub use force::BodyContacts;
@@ -64,8 +69,8 @@ pub struct ContactSettings {
     pub enabled: bool,
     /// Distance (m) below which surfaces push apart. Default 1 cm.
     pub thickness: Real,
-    /// Coulomb friction coefficient `μ` on the relative tangential velocity.
-    /// Default 0.
+    /// Coulomb friction coefficient `μ` on the relative tangential velocity
+    /// (impulses after each step). Default 0.
     pub friction: Real,
     /// Penalty stiffness (N/m); `None`: `m (v_ref / h)²` per contact.
     pub stiffness: Option<Real>,
@@ -133,4 +138,6 @@ pub struct Contacts {
     /// The candidate pairs found by the last detect stage.
     pub pairs: ContactPairs,
     scratch: detect::Scratch,
+    /// Friction's position changes, gathered over the pairs of a step.
+    scratch_moved: Vec<crate::Vec3>,
 }

@@ -1,10 +1,14 @@
 //! Position (Störmer) Verlet: `x⁺ = 2x - x⁻ + a dt²`. Order 2, symplectic.
 //!
 //! The method keeps the previous positions `x⁻`. It is bootstrapped with a
-//! Taylor step `x⁻ = x - v dt + ½ a dt²` on its first step, after a change
-//! of `dt`, and for any particle whose position or velocity was changed
-//! from outside since the last step (a collision, a user's drag, a switch
-//! from another integrator), so it can be switched in on a running world.
+//! Taylor step `x⁻ = x - v dt + ½ a dt²` on its first step and after a
+//! change of `dt` (a switch from another integrator on a running world
+//! starts this way). A particle whose position or velocity was changed from
+//! outside since the last step (by `Δx` and `Δv`: a collision, friction, a
+//! user's drag) keeps its history, shifted: `x⁻ += Δx - Δv dt`, so the next
+//! step carries exactly the change in position and in velocity. A fresh
+//! Taylor step instead would break the momentum balance between particles
+//! changed and not changed.
 //!
 //! Velocity (PHYSICS.md §6): the central difference
 //! `v_n = (x⁺ - x⁻) / (2 dt)` is computed *before* the positions are
@@ -28,8 +32,9 @@ pub struct Verlet {
 }
 
 impl Verlet {
-    /// Re-derive `x⁻` by a Taylor step for every particle whose state is not
-    /// the one this integrator wrote (all of them after a change of `dt`).
+    /// Derive `x⁻` by a Taylor step for every particle on the first step
+    /// and after a change of `dt`; shift it by the outside change for a
+    /// particle whose state is not the one this integrator wrote.
     fn bootstrap(&mut self, dt: Real, position: &[Vec3], velocity: &[Vec3]) {
         let n = position.len();
         let everything = self.last_dt != dt || self.written_position.len() != n;
@@ -37,11 +42,15 @@ impl Verlet {
         fit(&mut self.written_position, n);
         fit(&mut self.written_velocity, n);
         for i in 0..n {
-            let moved =
-                position[i] != self.written_position[i] || velocity[i] != self.written_velocity[i];
-            if everything || moved {
+            if everything {
                 self.previous_position[i] =
                     position[i] - velocity[i] * dt + 0.5 * self.acceleration[i] * dt * dt;
+            } else if position[i] != self.written_position[i]
+                || velocity[i] != self.written_velocity[i]
+            {
+                let moved = position[i] - self.written_position[i];
+                let kicked = velocity[i] - self.written_velocity[i];
+                self.previous_position[i] += moved - kicked * dt;
             }
         }
         self.last_dt = dt;

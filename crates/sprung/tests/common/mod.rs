@@ -251,3 +251,9 @@ pub fn assert_penalty_rest(
         "{label}: contact energy {contact:.6e} J, expected ½ k_c d² = {expected_energy:.6e} J"
     );
 }
+
+/// How deep (m) the deepest particle of any body lies inside another
+/// closed body of `world`, beyond the surface (0 when none is inside).
+pub fn deepest_inside_another(world: &World) -> Real {
+    sprung::contact::inside::deepest_interpenetration(&world.bodies, &world.particles.position)
+}
