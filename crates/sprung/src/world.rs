@@ -329,6 +329,7 @@ impl World {
     fn detect(&mut self, dt: Real) {
         self.contacts.detect(
             &self.bodies,
+            &self.springs,
             &self.particles.position,
             &self.particles.velocity,
             dt,

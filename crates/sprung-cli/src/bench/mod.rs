@@ -1,8 +1,10 @@
 //! `sprung bench`: spring updates per second for one step of a square cloth
 //! (structural, shear and bending springs) under each integrator, steps per
 //! second of a gas-filled ball at 642 and 10 242 vertices, and the stiff
-//! cloth under the implicit solvers ([`stiff_cloth`]).
+//! cloth under the implicit solvers ([`stiff_cloth`]), and contact between
+//! bodies ([`contacts`]).
 
+mod contacts;
 mod stiff_cloth;
 
 use std::time::Instant;
@@ -65,7 +67,9 @@ pub fn run(size: usize, steps: u32) -> Result<(), CliError> {
     println!();
     gas_balls(steps)?;
     println!();
-    stiff_cloth::run()
+    stiff_cloth::run()?;
+    println!();
+    contacts::run()
 }
 
 /// Steps per second of a gas-filled icosphere at 642 and 10 242 vertices

@@ -6,6 +6,7 @@ use super::{
     ContactPairs, ContactSettings, Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle,
 };
 use crate::body::{Body, BodyContact};
+use crate::springs::Springs;
 use crate::{Real, Vec3};
 
 /// Marks a particle of no colliding body.
@@ -266,11 +267,83 @@ impl Scratch {
 /// Picks a list of elements (with their bodies) out of the buffers.
 type Elements<const N: usize> = fn(&Scratch) -> &[([u32; N], u32)];
 
+/// The particles joined to each particle by a spring, for the particles of
+/// self-colliding bodies: a particle does not collide with an element of
+/// its own body that holds one of them (they are kept at their distance by
+/// the spring already, and would otherwise be found within reach of each
+/// other at rest).
+#[derive(Debug, Clone, Default)]
+pub(super) struct Links {
+    start: Vec<u32>,
+    list: Vec<u32>,
+    /// What they were built from: springs, particles, the bodies' flags.
+    built_for: Option<(usize, usize, Vec<BodyContact>)>,
+}
+
+impl Links {
+    /// Rebuild from the springs of the self-colliding bodies, unless those
+    /// are what they were built from.
+    fn build(&mut self, bodies: &[Body], springs: &Springs, particles: usize) {
+        let key = (
+            springs.len(),
+            particles,
+            bodies.iter().map(|b| b.contact).collect::<Vec<_>>(),
+        );
+        if self.built_for.as_ref() == Some(&key) {
+            return;
+        }
+        self.built_for = Some(key);
+        self.start.clear();
+        self.list.clear();
+        let selfish = |i: u32, b: &Body| b.particles.contains(&(i as usize));
+        let wanted: Vec<&Body> = bodies
+            .iter()
+            .filter(|b| b.contact.collide && b.contact.self_collision)
+            .collect();
+        if wanted.is_empty() {
+            return;
+        }
+        let mut count = vec![0u32; particles + 1];
+        let mut kept = Vec::new();
+        for body in &wanted {
+            for s in body.springs.clone() {
+                let (i, j) = (springs.first[s], springs.second[s]);
+                if selfish(i, body) && selfish(j, body) {
+                    count[i as usize + 1] += 1;
+                    count[j as usize + 1] += 1;
+                    kept.push((i, j));
+                }
+            }
+        }
+        for i in 0..particles {
+            count[i + 1] += count[i];
+        }
+        self.list.resize(count[particles] as usize, 0);
+        let mut fill = count.clone();
+        for (i, j) in kept {
+            self.list[fill[i as usize] as usize] = j;
+            fill[i as usize] += 1;
+            self.list[fill[j as usize] as usize] = i;
+            fill[j as usize] += 1;
+        }
+        self.start = count;
+    }
+
+    /// Whether particles `a` and `b` are the same or joined by a spring.
+    fn linked(&self, a: u32, b: u32) -> bool {
+        a == b
+            || self.start.get(a as usize + 1).is_some_and(|&end| {
+                self.list[self.start[a as usize] as usize..end as usize].contains(&b)
+            })
+    }
+}
+
 /// What the pair search needs to know of the world.
 struct Search<'a> {
     bodies: &'a [Body],
     position: &'a [Vec3],
     reach: Real,
+    links: &'a Links,
 }
 
 impl Search<'_> {
@@ -304,7 +377,13 @@ impl Search<'_> {
                 let (element, element_body) = elements(scratch)[e as usize];
                 let (low, high) = scratch.boxes[e as usize];
                 let inside = p.cmpge(low).all() && p.cmple(high).all();
-                if inside && self.allowed(body, element_body) && !element.contains(&particle) {
+                let own_neighbour =
+                    body == element_body && element.iter().any(|&v| self.links.linked(particle, v));
+                if inside
+                    && self.allowed(body, element_body)
+                    && !element.contains(&particle)
+                    && !own_neighbour
+                {
                     pair(particle, element, element_body);
                 }
             });
@@ -345,7 +424,14 @@ impl Search<'_> {
                 }
                 seen[second] = first as u32 + 1;
                 let (a, b) = (list[first], list[second]);
-                if self.allowed(a.1, b.1) && overlap((low, high), built.boxes[second]) {
+                let own_neighbours = a.1 == b.1
+                    && a.0
+                        .iter()
+                        .any(|&p| b.0.iter().any(|&q| self.links.linked(p, q)));
+                if self.allowed(a.1, b.1)
+                    && !own_neighbours
+                    && overlap((low, high), built.boxes[second])
+                {
                     pair(a, b);
                 }
             });
@@ -365,7 +451,14 @@ impl Contacts {
     /// as that margin still covers the motion (twice the largest distance a
     /// particle has moved since, plus the step's closing distance), so a
     /// slow scene searches every few steps, never missing a pair.
-    pub fn detect(&mut self, bodies: &[Body], position: &[Vec3], velocity: &[Vec3], dt: Real) {
+    pub fn detect(
+        &mut self,
+        bodies: &[Body],
+        springs: &Springs,
+        position: &[Vec3],
+        velocity: &[Vec3],
+        dt: Real,
+    ) {
         let colliding = bodies.iter().filter(|b| b.contact.collide).count();
         let self_colliding = bodies
             .iter()
@@ -394,16 +487,19 @@ impl Contacts {
             pairs,
             scratch,
             settings,
+            links,
             ..
         } = self;
         let margin = settings.thickness + closing;
         let reach = settings.thickness + margin;
         scratch.searched(bodies, position, margin, settings);
         scratch.collect(bodies, position, reach);
+        links.build(bodies, springs, position.len());
         let search = Search {
             bodies,
             position,
             reach,
+            links,
         };
         let x = |i: u32| position[i as usize];
         let ContactPairs {

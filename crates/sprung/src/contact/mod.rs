@@ -138,6 +138,7 @@ pub struct Contacts {
     /// The candidate pairs found by the last detect stage.
     pub pairs: ContactPairs,
     scratch: detect::Scratch,
+    links: detect::Links,
     /// Friction's position changes, gathered over the pairs of a step.
     scratch_moved: Vec<crate::Vec3>,
 }

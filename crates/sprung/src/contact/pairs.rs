@@ -134,9 +134,15 @@ impl ContactPairs {
             |pair| (pair.particle, pair.body),
             |pair| {
                 let [a, b, c] = pair.triangle;
+                let face = pair.side * (x(b) - x(a)).cross(x(c) - x(a));
+                // In front of the triangle's plane by more than the
+                // thickness: no point of it is within reach.
+                let height = (x(pair.particle) - x(a)).dot(face);
+                if height > 0.0 && height * height > thickness * thickness * face.length_squared() {
+                    return None;
+                }
                 let weights = closest_on_triangle(x(pair.particle), x(a), x(b), x(c));
                 let closest = weights[0] * x(a) + weights[1] * x(b) + weights[2] * x(c);
-                let face = pair.side * (x(b) - x(a)).cross(x(c) - x(a));
                 let interior = weights.iter().all(|&w| w > 0.0);
                 push(x(pair.particle) - closest, face, interior, thickness).map(
                     |(normal, depth)| Touch {
@@ -155,10 +161,14 @@ impl ContactPairs {
             |pair| (pair.particle, pair.body),
             |pair| {
                 let [a, b] = pair.segment;
-                let t = closest_on_segment(x(pair.particle), x(a), x(b));
-                let closest = x(a) + t * (x(b) - x(a));
                 let d = x(b) - x(a);
                 let face = pair.side * Vec3::new(d.y, -d.x, 0.0);
+                let height = (x(pair.particle) - x(a)).dot(face);
+                if height > 0.0 && height * height > thickness * thickness * face.length_squared() {
+                    return None;
+                }
+                let t = closest_on_segment(x(pair.particle), x(a), x(b));
+                let closest = x(a) + t * d;
                 let interior = t > 0.0 && t < 1.0;
                 push(x(pair.particle) - closest, face, interior, thickness).map(
                     |(normal, depth)| Touch {
