@@ -242,13 +242,14 @@ impl IntegratorKind {
     }
 
     /// Force evaluations per step of the explicit methods (the cost of a
-    /// step, in force passes); for the implicit ones it depends on the
-    /// iterations, and this gives the least, 1.
+    /// step, in force passes; for `rk45`, per internal step); for the
+    /// implicit ones it depends on the iterations, and this gives the
+    /// least, 1.
     pub fn evaluations_per_step(self) -> u32 {
         match self {
             IntegratorKind::Midpoint => 2,
             IntegratorKind::Rk4 => 4,
-            IntegratorKind::Rk45 => 5,
+            IntegratorKind::Rk45 => 6,
             _ => 1,
         }
     }
