@@ -253,7 +253,7 @@ fn progress_bar(steps: u64, quiet: bool) -> ProgressBar {
     if let Ok(style) = ProgressStyle::with_template(
         "{bar:40.cyan/blue} {pos}/{len} steps  {rate}  {elapsed} elapsed, {eta} left",
     ) {
-        let rate = |state: &ProgressState, out: &mut dyn std::fmt::Write| {
+        let rate = |state: &ProgressState, out: &mut dyn fmt::Write| {
             let _ = write!(out, "{:.0} steps/s", state.per_sec());
         };
         bar.set_style(style.with_key("rate", rate));

@@ -7,12 +7,16 @@ mod args;
 mod camera;
 mod demos;
 #[cfg(target_arch = "wasm32")]
+// The getrandom hook is an `extern` function writing through a raw pointer.
+#[allow(unsafe_code)]
 mod entropy;
 mod hand;
 mod hud;
 mod input;
 mod palette;
 mod panel;
+// Exported `#[no_mangle]` functions the web page reads the state with.
+#[allow(unsafe_code)]
 mod probe;
 mod render;
 mod render2d;

@@ -535,8 +535,8 @@ fn absurd_builder_sizes_are_refused_not_allocated() {
         ),
         "{error:?}"
     );
-    let error = build::cloth(5_000, 5_000, 1.0, 1.0, build::ClothSprings::default())
-        .expect_err("25 million");
+    let error =
+        build::cloth(5_000, 5_000, 1.0, 1.0, ClothSprings::default()).expect_err("25 million");
     assert!(
         matches!(
             error,

@@ -1122,9 +1122,9 @@ fn bad_wind_coefficients_are_refused() {
 fn wind_new_refuses_bad_gusts_and_turbulence() {
     let model = WindModel::Simple { coefficient: 1.0 };
     let w = Vec3::new(5.0, 0.0, 0.0);
-    let gusts = |amplitude, period| Some(sprung::forces::Gusts { amplitude, period });
+    let gusts = |amplitude, period| Some(Gusts { amplitude, period });
     let turbulence = |amplitude, length_scale, time_scale| {
-        Some(sprung::forces::Turbulence {
+        Some(Turbulence {
             amplitude,
             length_scale,
             time_scale,
