@@ -31,6 +31,7 @@ pub mod forces;
 pub mod gas;
 pub mod integrate;
 pub mod measure;
+pub mod parallel;
 pub mod particles;
 pub mod springs;
 pub mod surface;

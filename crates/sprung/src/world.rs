@@ -16,7 +16,7 @@
 //! 5. **guard**: a non-finite or runaway state stops the run with
 //!    [`StepError::BlowUp`].
 
-use crate::body::{Body, BodyData};
+use crate::body::{Body, BodyData, SpringData};
 use crate::collide::{self, Collider, ContactConstraint};
 use crate::contact::{BodyContacts, Contacts};
 use crate::error::{BlowUpReason, BuildError, StepError};
@@ -26,6 +26,7 @@ use crate::forces::{
 };
 use crate::integrate::{Derivative, Integrator, IntegratorKind, SolverSettings, State, StepReport};
 use crate::measure::{self, Energies};
+use crate::parallel;
 use crate::particles::Particles;
 use crate::springs::Springs;
 use crate::surface;
@@ -215,7 +216,12 @@ impl World {
         }
         let first_spring = self.springs.len();
         let index = |i: usize| (offset + i) as u32;
-        for s in &data.springs {
+        // Stored by lowest particle (then highest): the order the force
+        // threads take them in (`parallel::Schedule`), streaming through
+        // neighbouring particles.
+        let mut order: Vec<&SpringData> = data.springs.iter().collect();
+        order.sort_by_key(|s| (s.first.min(s.second), s.first.max(s.second)));
+        for s in order {
             self.springs.push(
                 index(s.first),
                 index(s.second),
@@ -397,22 +403,18 @@ impl World {
     fn guard(&self, dt: Real) -> Result<(), StepError> {
         let limits = &self.settings;
         let particles = &self.particles;
-        let bad = particles
-            .position
-            .iter()
-            .zip(&particles.velocity)
-            .enumerate()
-            .find_map(|(i, (x, v))| {
-                if !(x.is_finite() && v.is_finite()) {
-                    Some((i, BlowUpReason::NonFinite))
-                } else if x.length_squared() > limits.max_distance.powi(2) {
-                    Some((i, BlowUpReason::TooFar(x.length())))
-                } else if v.length_squared() > limits.max_speed.powi(2) {
-                    Some((i, BlowUpReason::TooFast(v.length())))
-                } else {
-                    None
-                }
-            });
+        let bad = parallel::find_first(particles.len(), |i| {
+            let (x, v) = (particles.position[i], particles.velocity[i]);
+            if !(x.is_finite() && v.is_finite()) {
+                Some(BlowUpReason::NonFinite)
+            } else if x.length_squared() > limits.max_distance.powi(2) {
+                Some(BlowUpReason::TooFar(x.length()))
+            } else if v.length_squared() > limits.max_speed.powi(2) {
+                Some(BlowUpReason::TooFast(v.length()))
+            } else {
+                None
+            }
+        });
         match bad {
             None => Ok(()),
             Some((particle, reason)) => Err(StepError::BlowUp {

@@ -2,6 +2,7 @@
 
 use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::measure::Energies;
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// Linear drag on every particle against its velocity.
@@ -20,9 +21,12 @@ impl Force for AirDrag {
         if self.coefficient == 0.0 {
             return;
         }
-        for (f, v) in force.iter_mut().zip(context.velocity) {
-            *f -= self.coefficient * *v;
-        }
+        let (coefficient, velocity) = (self.coefficient, context.velocity);
+        parallel::for_each_span(force, |start, force| {
+            for (f, v) in force.iter_mut().zip(&velocity[start..]) {
+                *f -= coefficient * *v;
+            }
+        });
     }
 
     /// Dissipative: no potential energy.
@@ -41,9 +45,11 @@ impl Force for AirDrag {
         out: &mut [Vec3],
     ) {
         let factor = -scale.velocity * self.coefficient;
-        for (o, p) in out.iter_mut().zip(p) {
-            *o += factor * *p;
-        }
+        parallel::for_each_span(out, |start, out| {
+            for (o, p) in out.iter_mut().zip(&p[start..]) {
+                *o += factor * *p;
+            }
+        });
     }
 
     fn add_jacobian_diagonal(

@@ -2,6 +2,7 @@
 
 use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::measure::Energies;
+use crate::parallel;
 use crate::Vec3;
 
 /// Uniform gravitational acceleration `g` (m/s²) on every particle.
@@ -20,18 +21,17 @@ impl Force for Gravity {
         if self.acceleration == Vec3::ZERO {
             return;
         }
-        for (f, &m) in force.iter_mut().zip(context.mass) {
-            *f += m * self.acceleration;
-        }
+        let g = self.acceleration;
+        parallel::for_each_span(force, |start, force| {
+            for (f, &m) in force.iter_mut().zip(&context.mass[start..]) {
+                *f += m * g;
+            }
+        });
     }
 
     fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
-        energies.gravity -= context
-            .position
-            .iter()
-            .zip(context.mass)
-            .map(|(x, &m)| m * self.acceleration.dot(*x))
-            .sum::<f64>();
+        let (x, m, g) = (context.position, context.mass, self.acceleration);
+        energies.gravity -= parallel::sum(x.len(), |range| range.map(|i| m[i] * g.dot(x[i])).sum());
     }
 
     /// Constant force: both Jacobians are exactly zero.

@@ -2,6 +2,7 @@
 
 use super::{Force, ForceContext, JacobianScale, Jacobians, Linearization, SpringForce};
 use crate::measure::Energies;
+use crate::parallel;
 use crate::Vec3;
 
 /// Every force acting in a world, in the order they are added.
@@ -82,7 +83,7 @@ impl ForceList {
 
     /// Clear `force`, then add every force at the state of `context` (N).
     pub fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
-        force.fill(Vec3::ZERO);
+        parallel::for_each_span(&mut *force, |_, force| force.fill(Vec3::ZERO));
         for f in &mut self.forces {
             f.accumulate(context, force);
         }
@@ -124,7 +125,7 @@ impl ForceList {
         p: &[Vec3],
         out: &mut [Vec3],
     ) {
-        out.fill(Vec3::ZERO);
+        parallel::for_each_span(&mut *out, |_, out| out.fill(Vec3::ZERO));
         for f in self.linearized(which) {
             f.add_jacobian_products(context, scale, p, out);
         }
@@ -139,7 +140,7 @@ impl ForceList {
         scale: JacobianScale,
         diagonal: &mut [Vec3],
     ) {
-        diagonal.fill(Vec3::ZERO);
+        parallel::for_each_span(&mut *diagonal, |_, diagonal| diagonal.fill(Vec3::ZERO));
         for f in self.linearized(which) {
             f.add_jacobian_diagonal(context, scale, diagonal);
         }

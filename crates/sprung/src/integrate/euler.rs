@@ -4,6 +4,7 @@
 
 use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::error::SolverError;
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// Explicit Euler with its acceleration buffer.
@@ -28,14 +29,13 @@ impl Integrator for ExplicitEuler {
     ) -> Result<StepReport, SolverError> {
         fit(&mut self.acceleration, position.len());
         system.acceleration(time, position, velocity, &mut self.acceleration);
-        for ((x, v), a) in position
-            .iter_mut()
-            .zip(velocity.iter_mut())
-            .zip(&self.acceleration)
-        {
-            *x += *v * dt;
-            *v += *a * dt;
-        }
+        let acceleration = &self.acceleration;
+        parallel::for_each_span((position, velocity), |start, (x, v)| {
+            for ((x, v), a) in x.iter_mut().zip(v).zip(&acceleration[start..]) {
+                *x += *v * dt;
+                *v += *a * dt;
+            }
+        });
         Ok(StepReport::default())
     }
 }

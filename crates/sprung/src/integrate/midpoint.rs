@@ -3,6 +3,7 @@
 
 use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::error::SolverError;
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// The midpoint method with its half-step buffers.
@@ -33,20 +34,28 @@ impl Integrator for Midpoint {
         fit(&mut self.half_velocity, n);
         let half = 0.5 * dt;
         system.acceleration(time, position, velocity, &mut self.acceleration);
-        for i in 0..n {
-            self.half_position[i] = position[i] + velocity[i] * half;
-            self.half_velocity[i] = velocity[i] + self.acceleration[i] * half;
-        }
+        let (x, v, a) = (&*position, &*velocity, &self.acceleration);
+        let halves = (&mut self.half_position[..], &mut self.half_velocity[..]);
+        parallel::for_each_span(halves, |start, (half_x, half_v)| {
+            for (k, (half_x, half_v)) in half_x.iter_mut().zip(half_v).enumerate() {
+                let i = start + k;
+                *half_x = x[i] + v[i] * half;
+                *half_v = v[i] + a[i] * half;
+            }
+        });
         system.acceleration(
             time + half,
             &self.half_position,
             &self.half_velocity,
             &mut self.acceleration,
         );
-        for i in 0..n {
-            position[i] += self.half_velocity[i] * dt;
-            velocity[i] += self.acceleration[i] * dt;
-        }
+        let (half_v, a) = (&self.half_velocity, &self.acceleration);
+        parallel::for_each_span((position, velocity), |start, (x, v)| {
+            for (k, (x, v)) in x.iter_mut().zip(v).enumerate() {
+                *x += half_v[start + k] * dt;
+                *v += a[start + k] * dt;
+            }
+        });
         Ok(StepReport::default())
     }
 }

@@ -32,6 +32,7 @@ pub use verlet::Verlet;
 use crate::collide::ContactConstraint;
 use crate::error::SolverError;
 use crate::forces::{JacobianScale, Jacobians, Linearization};
+use crate::parallel;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
 
@@ -70,9 +71,12 @@ pub trait Derivative {
         acceleration: &mut [Vec3],
     ) {
         self.force(time, position, velocity, acceleration);
-        for (a, &w) in acceleration.iter_mut().zip(self.inverse_mass()) {
-            *a *= w;
-        }
+        let inverse_mass = self.inverse_mass();
+        parallel::for_each_span(acceleration, |start, a| {
+            for (a, &w) in a.iter_mut().zip(&inverse_mass[start..]) {
+                *a *= w;
+            }
+        });
     }
     /// Set `out` to the contacts with projection colliders over a step of
     /// `dt` (s) from `state` (see [`ContactConstraint`]); the implicit

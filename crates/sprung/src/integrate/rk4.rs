@@ -4,6 +4,7 @@
 
 use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::error::SolverError;
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// RK4 with its stage buffers: the trial state, the stage acceleration and
@@ -60,20 +61,32 @@ impl Integrator for RungeKutta4 {
                 &self.trial_velocity,
                 &mut self.acceleration,
             );
-            for i in 0..n {
-                let (stage_velocity, stage_acceleration) =
-                    (self.trial_velocity[i], self.acceleration[i]);
-                self.sum_velocity[i] += weight * stage_velocity;
-                self.sum_acceleration[i] += weight * stage_acceleration;
-                self.trial_position[i] = position[i] + next_offset * dt * stage_velocity;
-                self.trial_velocity[i] = velocity[i] + next_offset * dt * stage_acceleration;
-            }
+            let (x, v, a) = (&*position, &*velocity, &self.acceleration);
+            let buffers = (
+                &mut self.sum_velocity[..],
+                &mut self.sum_acceleration[..],
+                &mut self.trial_position[..],
+                &mut self.trial_velocity[..],
+            );
+            parallel::for_each_span(buffers, |start, (sum_v, sum_a, trial_x, trial_v)| {
+                for k in 0..sum_v.len() {
+                    let i = start + k;
+                    let (stage_velocity, stage_acceleration) = (trial_v[k], a[i]);
+                    sum_v[k] += weight * stage_velocity;
+                    sum_a[k] += weight * stage_acceleration;
+                    trial_x[k] = x[i] + next_offset * dt * stage_velocity;
+                    trial_v[k] = v[i] + next_offset * dt * stage_acceleration;
+                }
+            });
         }
         let sixth = dt / 6.0;
-        for i in 0..n {
-            position[i] += sixth * self.sum_velocity[i];
-            velocity[i] += sixth * self.sum_acceleration[i];
-        }
+        let (sum_v, sum_a) = (&self.sum_velocity, &self.sum_acceleration);
+        parallel::for_each_span((position, velocity), |start, (x, v)| {
+            for (k, (x, v)) in x.iter_mut().zip(v).enumerate() {
+                *x += sixth * sum_v[start + k];
+                *v += sixth * sum_a[start + k];
+            }
+        });
         Ok(StepReport::default())
     }
 }

@@ -16,6 +16,7 @@
 
 use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::error::SolverError;
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// Dormand–Prince coefficients `a[i][j]` (stage `i` from stages `j < i`).
@@ -83,17 +84,22 @@ pub struct RungeKutta45 {
 impl RungeKutta45 {
     /// Stage `stage`'s trial state from the start `(x, v)` and step `h`.
     fn trial(&mut self, stage: usize, h: Real, x: &[Vec3], v: &[Vec3]) {
-        for i in 0..x.len() {
-            let (mut dx, mut dv) = (Vec3::ZERO, Vec3::ZERO);
-            for (j, &a) in A[stage].iter().enumerate().take(stage) {
-                if a != 0.0 {
-                    dx += a * self.stage_velocity[j][i];
-                    dv += a * self.stage_acceleration[j][i];
+        let (stage_v, stage_a) = (&self.stage_velocity, &self.stage_acceleration);
+        let trial = (&mut self.trial_position[..], &mut self.trial_velocity[..]);
+        parallel::for_each_span(trial, |start, (trial_x, trial_v)| {
+            for k in 0..trial_x.len() {
+                let i = start + k;
+                let (mut dx, mut dv) = (Vec3::ZERO, Vec3::ZERO);
+                for (j, &a) in A[stage].iter().enumerate().take(stage) {
+                    if a != 0.0 {
+                        dx += a * stage_v[j][i];
+                        dv += a * stage_a[j][i];
+                    }
                 }
+                trial_x[k] = x[i] + h * dx;
+                trial_v[k] = v[i] + h * dv;
             }
-            self.trial_position[i] = x[i] + h * dx;
-            self.trial_velocity[i] = v[i] + h * dv;
-        }
+        });
     }
 }
 
@@ -152,20 +158,24 @@ impl Integrator for RungeKutta45 {
                 );
             }
             // The fifth-order solution is stage 7's trial state.
-            let mut error: Real = 0.0;
-            for i in 0..n {
-                let (mut ex, mut ev) = (Vec3::ZERO, Vec3::ZERO);
-                for (j, &e) in E.iter().enumerate() {
-                    ex += e * self.stage_velocity[j][i];
-                    ev += e * self.stage_acceleration[j][i];
+            let (stage_v, stage_a) = (&self.stage_velocity, &self.stage_acceleration);
+            let (trial_x, trial_v) = (&self.trial_position, &self.trial_velocity);
+            let (x, v) = (&*position, &*velocity);
+            let error = parallel::max(n, |range| {
+                let mut error: Real = 0.0;
+                for i in range {
+                    let (mut ex, mut ev) = (Vec3::ZERO, Vec3::ZERO);
+                    for (j, &e) in E.iter().enumerate() {
+                        ex += e * stage_v[j][i];
+                        ev += e * stage_a[j][i];
+                    }
+                    let scale_x = tolerance * (1.0 + x[i].abs().max(trial_x[i].abs()));
+                    let scale_v = tolerance * (1.0 + v[i].abs().max(trial_v[i].abs()));
+                    error = error.max(((h * ex) / scale_x).abs().max_element());
+                    error = error.max(((h * ev) / scale_v).abs().max_element());
                 }
-                let scale_x =
-                    tolerance * (1.0 + position[i].abs().max(self.trial_position[i].abs()));
-                let scale_v =
-                    tolerance * (1.0 + velocity[i].abs().max(self.trial_velocity[i].abs()));
-                error = error.max(((h * ex) / scale_x).abs().max_element());
-                error = error.max(((h * ev) / scale_v).abs().max_element());
-            }
+                error
+            });
             if !error.is_finite() {
                 // A trial state that overflowed: retry much shorter.
                 proposed = 0.1 * h;

@@ -3,6 +3,7 @@
 
 use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::error::SolverError;
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// Symplectic Euler with its acceleration buffer.
@@ -27,14 +28,13 @@ impl Integrator for SymplecticEuler {
     ) -> Result<StepReport, SolverError> {
         fit(&mut self.acceleration, position.len());
         system.acceleration(time, position, velocity, &mut self.acceleration);
-        for ((x, v), a) in position
-            .iter_mut()
-            .zip(velocity.iter_mut())
-            .zip(&self.acceleration)
-        {
-            *v += *a * dt;
-            *x += *v * dt;
-        }
+        let acceleration = &self.acceleration;
+        parallel::for_each_span((position, velocity), |start, (x, v)| {
+            for ((x, v), a) in x.iter_mut().zip(v).zip(&acceleration[start..]) {
+                *v += *a * dt;
+                *x += *v * dt;
+            }
+        });
         Ok(StepReport::default())
     }
 }

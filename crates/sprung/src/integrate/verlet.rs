@@ -19,6 +19,7 @@
 
 use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::error::SolverError;
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// Position Verlet with its previous positions and the state it last wrote.
@@ -41,18 +42,20 @@ impl Verlet {
         fit(&mut self.previous_position, n);
         fit(&mut self.written_position, n);
         fit(&mut self.written_velocity, n);
-        for i in 0..n {
-            if everything {
-                self.previous_position[i] =
-                    position[i] - velocity[i] * dt + 0.5 * self.acceleration[i] * dt * dt;
-            } else if position[i] != self.written_position[i]
-                || velocity[i] != self.written_velocity[i]
-            {
-                let moved = position[i] - self.written_position[i];
-                let kicked = velocity[i] - self.written_velocity[i];
-                self.previous_position[i] += moved - kicked * dt;
+        let (x, v, a) = (position, velocity, &self.acceleration);
+        let (written_x, written_v) = (&self.written_position, &self.written_velocity);
+        parallel::for_each_span(&mut self.previous_position[..], |start, previous| {
+            for (k, previous) in previous.iter_mut().enumerate() {
+                let i = start + k;
+                if everything {
+                    *previous = x[i] - v[i] * dt + 0.5 * a[i] * dt * dt;
+                } else if x[i] != written_x[i] || v[i] != written_v[i] {
+                    let moved = x[i] - written_x[i];
+                    let kicked = v[i] - written_v[i];
+                    *previous += moved - kicked * dt;
+                }
             }
-        }
+        });
         self.last_dt = dt;
     }
 }
@@ -75,16 +78,26 @@ impl Integrator for Verlet {
         system.acceleration(time, position, velocity, &mut self.acceleration);
         self.bootstrap(dt, position, velocity);
         let dt2 = dt * dt;
-        for i in 0..position.len() {
-            let a = self.acceleration[i];
-            let next = 2.0 * position[i] - self.previous_position[i] + a * dt2;
-            let central_velocity = (next - self.previous_position[i]) / (2.0 * dt);
-            self.previous_position[i] = position[i];
-            position[i] = next;
-            velocity[i] = central_velocity + a * dt;
-            self.written_position[i] = position[i];
-            self.written_velocity[i] = velocity[i];
-        }
+        let acceleration = &self.acceleration;
+        let state = (
+            position,
+            velocity,
+            &mut self.previous_position[..],
+            &mut self.written_position[..],
+            &mut self.written_velocity[..],
+        );
+        parallel::for_each_span(state, |start, (x, v, previous, written_x, written_v)| {
+            for k in 0..x.len() {
+                let a = acceleration[start + k];
+                let next = 2.0 * x[k] - previous[k] + a * dt2;
+                let central_velocity = (next - previous[k]) / (2.0 * dt);
+                previous[k] = x[k];
+                x[k] = next;
+                v[k] = central_velocity + a * dt;
+                written_x[k] = x[k];
+                written_v[k] = v[k];
+            }
+        });
         Ok(StepReport::default())
     }
 }

@@ -21,18 +21,34 @@
 //! itself is exact, so Newton iterations still converge to the exact
 //! backward-Euler step.
 
+mod batch;
+
+use batch::SpringBatch;
+
 use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::measure::Energies;
+use crate::parallel::{self, Schedule};
 use crate::springs::Springs;
 use crate::{Real, Vec3};
 
 /// The force of every spring in the world (reads `ForceContext::springs`),
 /// with its Jacobians cached at the last linearisation.
+///
+/// The springs are added in blocks of neighbouring particles
+/// ([`Schedule`]), blocks that share no particle in parallel: every particle
+/// receives its springs' forces in the same order whatever the number of
+/// threads. The schedule is made again whenever the springs' particles
+/// differ from those it was made for (a spring added, removed or moved).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SpringForce {
     /// Per spring: the unit axis `t` and the clamped transverse stiffness
     /// `k max(0, 1 - L0/d)` (N/m) at the linearisation state.
     linearized: Vec<SpringJacobian>,
+    /// The springs in blocks, with their particles.
+    schedule: Schedule<2>,
+    /// The springs' particles (`first`, then `second`) the schedule was
+    /// made for.
+    scheduled: (Vec<u32>, Vec<u32>),
 }
 
 /// One spring's Jacobian data at a state.
@@ -67,6 +83,16 @@ impl SpringForce {
     pub fn new() -> Self {
         SpringForce::default()
     }
+
+    /// Schedule the springs, unless the schedule is for these very springs
+    /// (a comparison of their particle lists: a small part of a force pass).
+    fn colour(&mut self, springs: &Springs, particles: usize) {
+        if self.scheduled.0 != springs.first || self.scheduled.1 != springs.second {
+            self.scheduled = (springs.first.clone(), springs.second.clone());
+            let members = springs.first.iter().zip(&springs.second);
+            self.schedule = Schedule::new(members.map(|(&i, &j)| [i, j]), particles);
+        }
+    }
 }
 
 impl Force for SpringForce {
@@ -76,23 +102,11 @@ impl Force for SpringForce {
 
     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
         let springs = context.springs;
+        self.colour(springs, context.position.len());
         let (x, v) = (context.position, context.velocity);
-        for s in 0..springs.len() {
-            let (i, j) = (springs.first[s] as usize, springs.second[s] as usize);
-            let delta = x[i] - x[j];
-            let length = delta.length();
-            if length == 0.0 {
-                continue;
-            }
-            let axis = delta / length;
-            let tension = springs.stiffness[s] * (length - springs.rest_length[s])
-                + springs.damping[s] * (v[i] - v[j]).dot(axis);
-            let pull = tension * axis;
-            if !springs.one_sided[s] {
-                force[i] -= pull;
-            }
-            force[j] += pull;
-        }
+        self.schedule.for_each_block(force, |block| {
+            batch::accumulate_block(springs, x, v, &block, &mut SpringBatch::default());
+        });
     }
 
     fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
@@ -102,19 +116,26 @@ impl Force for SpringForce {
     fn linearize(&mut self, context: &ForceContext) -> Linearization {
         let springs = context.springs;
         let x = context.position;
+        self.colour(springs, x.len());
         self.linearized.clear();
-        self.linearized.extend((0..springs.len()).map(|s| {
-            let delta = x[springs.first[s] as usize] - x[springs.second[s] as usize];
-            let length = delta.length();
-            if length == 0.0 {
-                return SpringJacobian::default();
+        self.linearized
+            .resize(springs.len(), SpringJacobian::default());
+        parallel::for_each_span(&mut self.linearized[..], |start, chunk| {
+            for (offset, jacobian) in chunk.iter_mut().enumerate() {
+                let s = start + offset;
+                let delta = x[springs.first[s] as usize] - x[springs.second[s] as usize];
+                let length = delta.length();
+                *jacobian = if length == 0.0 {
+                    SpringJacobian::default()
+                } else {
+                    let stretch = 1.0 - springs.rest_length[s] / length;
+                    SpringJacobian {
+                        axis: delta / length,
+                        across: springs.stiffness[s] * stretch.max(0.0),
+                    }
+                };
             }
-            let stretch = 1.0 - springs.rest_length[s] / length;
-            SpringJacobian {
-                axis: delta / length,
-                across: springs.stiffness[s] * stretch.max(0.0),
-            }
-        }));
+        });
         Linearization::Approximate
     }
 
@@ -126,17 +147,18 @@ impl Force for SpringForce {
         out: &mut [Vec3],
     ) {
         let springs = context.springs;
-        for (s, jacobian) in self.linearized.iter().enumerate() {
-            let (i, j) = (springs.first[s] as usize, springs.second[s] as usize);
+        self.schedule.scatter(out, |s, w| {
+            let jacobian = self.linearized[s];
+            let [i, j] = [w.particle(0), w.particle(1)];
             let (k, c) = (springs.stiffness[s], springs.damping[s]);
             if springs.one_sided[s] {
-                out[j] += jacobian.product(k, c, scale, p[j]);
+                w.add(1, jacobian.product(k, c, scale, p[j]));
             } else {
                 let q = jacobian.product(k, c, scale, p[i] - p[j]);
-                out[i] += q;
-                out[j] -= q;
+                w.add(0, q);
+                w.add(1, -q);
             }
-        }
+        });
     }
 
     fn add_jacobian_diagonal(
@@ -146,24 +168,26 @@ impl Force for SpringForce {
         diagonal: &mut [Vec3],
     ) {
         let springs = context.springs;
-        for (s, jacobian) in self.linearized.iter().enumerate() {
-            let (i, j) = (springs.first[s] as usize, springs.second[s] as usize);
-            let d = jacobian.diagonal(springs.stiffness[s], springs.damping[s], scale);
+        self.schedule.scatter(diagonal, |s, w| {
+            let d = self.linearized[s].diagonal(springs.stiffness[s], springs.damping[s], scale);
             if !springs.one_sided[s] {
-                diagonal[i] += d;
+                w.add(0, d);
             }
-            diagonal[j] += d;
-        }
+            w.add(1, d);
+        });
     }
 }
 
-/// Elastic energy `Σ ½ k (d - L0)²` of `springs` at `position` (J).
+/// Elastic energy `Σ ½ k (d - L0)²` of `springs` at `position` (J),
+/// summed in fixed chunks (the same bits on any number of threads).
 pub fn spring_energy(springs: &Springs, position: &[Vec3]) -> Real {
-    (0..springs.len())
-        .map(|s| {
-            let d =
-                position[springs.first[s] as usize].distance(position[springs.second[s] as usize]);
-            0.5 * springs.stiffness[s] * (d - springs.rest_length[s]).powi(2)
-        })
-        .sum()
+    parallel::sum(springs.len(), |range| {
+        range
+            .map(|s| {
+                let d = position[springs.first[s] as usize]
+                    .distance(position[springs.second[s] as usize]);
+                0.5 * springs.stiffness[s] * (d - springs.rest_length[s]).powi(2)
+            })
+            .sum()
+    })
 }

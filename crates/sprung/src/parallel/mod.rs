@@ -1,0 +1,171 @@
+//! Threads, with results that do not depend on how many there are.
+//!
+//! The engine runs its long loops on rayon's thread pool: the current one
+//! (`ThreadPool::install`), else the global one, sized by `SPRUNG_THREADS`
+//! when set ([`configure_from_env`]), else by rayon's own default (every
+//! core). Whatever the number of threads, a run writes the same bits:
+//!
+//! - a loop over particles writes each particle's entries only, so the
+//!   threads never meet;
+//! - a sum (an energy, a volume, a dot product of the solvers) is taken
+//!   over fixed pieces of at most [`CHUNK`] elements, each summed in order,
+//!   then the pieces' sums pairwise in a tree fixed by the length ([`sum`]),
+//!   so its rounding is that of the length, not of the threads;
+//! - forces of elements that share particles (springs, faces) are added
+//!   block by block ([`Schedule`]): blocks of neighbouring particles that
+//!   share none run at once, so each particle receives its contributions
+//!   in the same order whatever thread computes them.
+//!
+//! Loops shorter than [`CHUNK`] run on the calling thread: a small scene
+//! pays nothing for the threads.
+
+mod schedule;
+
+use std::ops::Range;
+
+use rayon::prelude::*;
+
+use crate::Real;
+
+pub use schedule::{Block, Elements, Schedule, Writer};
+
+/// The number of elements a thread takes at a time, and the chunk of the
+/// fixed-order sums.
+pub const CHUNK: usize = 4096;
+
+/// Size rayon's global pool from `SPRUNG_THREADS` (a positive count), if it
+/// is set and the pool is not built yet. Returns the threads the global
+/// pool has.
+pub fn configure_from_env() -> usize {
+    if let Some(threads) = std::env::var("SPRUNG_THREADS")
+        .ok()
+        .and_then(|v| v.trim().parse::<usize>().ok())
+        .filter(|&n| n > 0)
+    {
+        // An error means the pool was built already (by rayon or by an
+        // earlier call): it keeps its size.
+        let _ = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build_global();
+    }
+    rayon::current_num_threads()
+}
+
+/// `Σ f(piece)` over pieces of `0..len` of at most [`CHUNK`] indices, cut
+/// at multiples of it and added pairwise in a tree that depends on `len`
+/// only: the same bits whatever the number of threads, and nothing
+/// allocated.
+pub fn sum(len: usize, f: impl Fn(Range<usize>) -> Real + Sync) -> Real {
+    fn run(range: Range<usize>, f: &(impl Fn(Range<usize>) -> Real + Sync)) -> Real {
+        let len = range.len();
+        if len <= CHUNK {
+            f(range)
+        } else {
+            let mid = range.start + len.div_ceil(CHUNK).div_ceil(2) * CHUNK;
+            let (left, right) = rayon::join(|| run(range.start..mid, f), || run(mid..range.end, f));
+            left + right
+        }
+    }
+    run(0..len, &f)
+}
+
+/// `max f(chunk)` over the chunks of `0..len`, in parallel (0 for none; a
+/// maximum does not depend on the order it is taken in).
+pub fn max(len: usize, f: impl Fn(Range<usize>) -> Real + Sync) -> Real {
+    if len <= CHUNK {
+        return f(0..len).max(0.0);
+    }
+    (0..len.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| f(c * CHUNK..((c + 1) * CHUNK).min(len)))
+        .reduce(|| 0.0, Real::max)
+}
+
+/// The lowest `i < len` for which `f(i)` is something, with it: the same
+/// one whatever the number of threads.
+pub fn find_first<T: Send>(
+    len: usize,
+    f: impl Fn(usize) -> Option<T> + Sync,
+) -> Option<(usize, T)> {
+    let in_chunk = |range: Range<usize>| range.into_iter().find_map(|i| f(i).map(|t| (i, t)));
+    if len <= CHUNK {
+        return in_chunk(0..len);
+    }
+    (0..len.div_ceil(CHUNK))
+        .into_par_iter()
+        .find_map_first(|c| in_chunk(c * CHUNK..((c + 1) * CHUNK).min(len)))
+}
+
+/// Slices of equal length (one, or a tuple of them) that can be cut at an
+/// index into two sets of slices; [`for_each_span`] hands the pieces to
+/// threads.
+pub trait SplitMut: Sized + Send {
+    /// Length of the slices (the shortest, for a tuple).
+    fn len(&self) -> usize;
+    /// True when the slices are empty.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The slices cut at `mid`: `[..mid]` and `[mid..]`.
+    fn split_at(self, mid: usize) -> (Self, Self);
+}
+
+impl<T: Send> SplitMut for &mut [T] {
+    fn len(&self) -> usize {
+        <[T]>::len(self)
+    }
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        self.split_at_mut(mid)
+    }
+}
+
+impl<T: Sync> SplitMut for &[T] {
+    fn len(&self) -> usize {
+        <[T]>::len(self)
+    }
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        <[T]>::split_at(self, mid)
+    }
+}
+
+macro_rules! split_mut_tuple {
+    ($($name:ident),+) => {
+        impl<$($name: SplitMut),+> SplitMut for ($($name,)+) {
+            fn len(&self) -> usize {
+                #[allow(non_snake_case)]
+                let ($($name,)+) = self;
+                [$($name.len()),+].into_iter().min().unwrap_or(0)
+            }
+            fn split_at(self, mid: usize) -> (Self, Self) {
+                #[allow(non_snake_case)]
+                let ($($name,)+) = self;
+                #[allow(non_snake_case)]
+                let ($($name,)+) = ($($name.split_at(mid),)+);
+                (($($name.0,)+), ($($name.1,)+))
+            }
+        }
+    };
+}
+
+split_mut_tuple!(A, B);
+split_mut_tuple!(A, B, C);
+split_mut_tuple!(A, B, C, D);
+split_mut_tuple!(A, B, C, D, E);
+
+/// Call `f(start, spans)` on pieces of `slices` (of at most [`CHUNK`]
+/// entries, cut at multiples of it), in parallel; `start` is the index of
+/// the piece's first entry. A loop over particles that writes each
+/// particle's own entries: the result does not depend on the threads.
+pub fn for_each_span<S: SplitMut>(slices: S, f: impl Fn(usize, S) + Sync) {
+    fn run<S: SplitMut>(slices: S, start: usize, f: &(impl Fn(usize, S) + Sync)) {
+        let len = slices.len();
+        if len <= CHUNK {
+            f(start, slices);
+        } else {
+            let mid = len.div_ceil(CHUNK).div_ceil(2) * CHUNK;
+            let (left, right) = slices.split_at(mid);
+            rayon::join(|| run(left, start, f), || run(right, start + mid, f));
+        }
+    }
+    run(slices, 0, &f);
+}
