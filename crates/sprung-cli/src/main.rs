@@ -26,6 +26,10 @@ use sprung_io::export::FrameFormat;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Threads the engine runs on (default: SPRUNG_THREADS, else every
+    /// core). Results are the same bits on any number.
+    #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..))]
+    threads: Option<u16>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -99,6 +103,10 @@ pub struct RunOptions {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(error) = sprung::parallel::configure(cli.threads.map(usize::from)) {
+        eprintln!("error: {error}");
+        return ExitCode::from(1);
+    }
     let result = match cli.command {
         Command::Run { scene, options } => run::run_file(&scene, &options),
         Command::Demo {

@@ -20,37 +20,42 @@
 
 use std::collections::{HashMap, HashSet};
 
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// Volume enclosed by triangles `faces` (counter-clockwise seen from
 /// outside) at `position`, by the divergence theorem (m³). Positive for an
 /// outward-oriented closed surface.
 pub fn enclosed_volume(position: &[Vec3], faces: &[[u32; 3]]) -> Real {
-    faces
-        .iter()
-        .map(|&[a, b, c]| {
-            let (a, b, c) = (
-                position[a as usize],
-                position[b as usize],
-                position[c as usize],
-            );
-            let area_normal = 0.5 * (b - a).cross(c - a);
-            (a.x + b.x + c.x) / 3.0 * area_normal.x
-        })
-        .sum()
+    parallel::sum(faces.len(), |range| {
+        faces[range]
+            .iter()
+            .map(|&[a, b, c]| {
+                let (a, b, c) = (
+                    position[a as usize],
+                    position[b as usize],
+                    position[c as usize],
+                );
+                let area_normal = 0.5 * (b - a).cross(c - a);
+                (a.x + b.x + c.x) / 3.0 * area_normal.x
+            })
+            .sum()
+    })
 }
 
 /// Area enclosed by the closed loop of `segments` (each `[from, to]`,
 /// counter-clockwise) in the xy-plane at `position`, by the divergence
 /// theorem (m²). Positive for a counter-clockwise loop.
 pub fn enclosed_area(position: &[Vec3], segments: &[[u32; 2]]) -> Real {
-    segments
-        .iter()
-        .map(|&[a, b]| {
-            let (a, b) = (position[a as usize], position[b as usize]);
-            0.5 * (a.x + b.x) * (b.y - a.y)
-        })
-        .sum()
+    parallel::sum(segments.len(), |range| {
+        segments[range]
+            .iter()
+            .map(|&[a, b]| {
+                let (a, b) = (position[a as usize], position[b as usize]);
+                0.5 * (a.x + b.x) * (b.y - a.y)
+            })
+            .sum()
+    })
 }
 
 /// The textbook's 2D "volume" (PHYSICS.md §4): `Σ ½ |x1 - x2| |n_x| d`

@@ -115,8 +115,11 @@ pub struct World {
 }
 
 impl World {
-    /// An empty world with default settings, stepped by `integrator`.
+    /// An empty world with default settings, stepped by `integrator`. The
+    /// first world of a process sizes the engine's threads from
+    /// `SPRUNG_THREADS` if it is set (see [`parallel::configure`]).
     pub fn new(integrator: IntegratorKind) -> Self {
+        parallel::configure_from_env();
         let mut forces = ForceList::new();
         forces.set(Gravity {
             acceleration: DEFAULT_GRAVITY,

@@ -440,6 +440,10 @@ impl Search<'_> {
     }
 }
 
+/// The most distance (in contact thicknesses) two particles are searched
+/// for closing in one step.
+const MAX_CLOSING: Real = 4.0;
+
 impl Contacts {
     /// The detect stage: make sure the candidate pairs hold every pair of
     /// elements of colliding bodies that can come within the thickness
@@ -447,7 +451,8 @@ impl Contacts {
     ///
     /// Pairs are searched within the thickness plus a margin: twice the
     /// thickness plus the distance two particles at the fastest speed now
-    /// close in the step. They are kept for the following steps for as long
+    /// close in the step (at most [`MAX_CLOSING`] thicknesses: faster
+    /// particles may pass through each other). They are kept for the following steps for as long
     /// as that margin still covers the motion (twice the largest distance a
     /// particle has moved since, plus the step's closing distance), so a
     /// slow scene searches every few steps, never missing a pair.
@@ -475,7 +480,10 @@ impl Contacts {
             .map(|v| v.length())
             .fold(0.0, Real::max)
             .min(1e6);
-        let closing = 2.0 * dt * speed;
+        // Beyond a few thicknesses a step, contact cannot catch a particle
+        // anyway (its force acts within the thickness); searching further
+        // would only gather every particle of a blowing-up scene.
+        let closing = (2.0 * dt * speed).min(MAX_CLOSING * self.settings.thickness);
         if self
             .scratch
             .still_covers(bodies, position, closing, &self.settings)

@@ -31,6 +31,7 @@ mod list;
 mod mouse;
 mod pressure;
 mod spring;
+mod surfaces;
 mod wind;
 mod wind_field;
 

@@ -19,10 +19,12 @@
 //! is left out: [`Linearization::Approximate`]. Bodies whose volume model
 //! is not the exact one give no Jacobian (their gas is explicit).
 
+use super::surfaces::Surfaces;
 use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::body::Body;
 use crate::gas::VolumeModel;
 use crate::measure::Energies;
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// The pressure of the gas in every body that has one, with its volume
@@ -35,6 +37,8 @@ pub struct GasPressure {
     /// Per gas body with the exact volume model: its particles and
     /// `nRT / V²` (J/m⁶, or J/m⁴ in 2D).
     stiff: Vec<(std::ops::Range<usize>, Real)>,
+    /// The bodies' surfaces in blocks for the threads.
+    surfaces: Surfaces,
 }
 
 impl GasPressure {
@@ -45,25 +49,32 @@ impl GasPressure {
 }
 
 /// Add the gradient of `body`'s enclosed volume (area in 2D) with respect
-/// to each vertex, `∂V/∂x_i` (m², or m in 2D), times `scale`, to `out`.
-fn add_volume_gradient(body: &Body, x: &[Vec3], scale: Real, out: &mut [Vec3]) {
+/// to each vertex, `∂V/∂x_i` (m², or m in 2D), times `scale`, to `out`; the
+/// surface's elements are added block by block (`surfaces`).
+fn add_volume_gradient(
+    (index, body): (usize, &Body),
+    surfaces: &mut Surfaces,
+    x: &[Vec3],
+    scale: Real,
+    out: &mut [Vec3],
+) {
     if body.is_planar() {
-        for &[a, b] in &body.segments {
-            let d = x[b as usize] - x[a as usize];
+        let segments = surfaces.segments(index, body, x.len());
+        segments.scatter(out, |_, w| {
+            let d = x[w.particle(1)] - x[w.particle(0)];
             // l n = (Δy, -Δx) for a counter-clockwise loop.
             let share = 0.5 * scale * Vec3::new(d.y, -d.x, 0.0);
-            out[a as usize] += share;
-            out[b as usize] += share;
-        }
+            w.add(0, share);
+            w.add(1, share);
+        });
     } else {
-        for &[a, b, c] in &body.faces {
-            let (a, b, c) = (a as usize, b as usize, c as usize);
+        let faces = surfaces.faces(index, body, x.len());
+        faces.scatter(out, |_, w| {
+            let [a, b, c] = [w.particle(0), w.particle(1), w.particle(2)];
             let area_normal = 0.5 * (x[b] - x[a]).cross(x[c] - x[a]);
             let share = scale / 3.0 * area_normal;
-            out[a] += share;
-            out[b] += share;
-            out[c] += share;
-        }
+            (0..3).for_each(|k| w.add(k, share));
+        });
     }
 }
 
@@ -73,9 +84,10 @@ impl Force for GasPressure {
     }
 
     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
-        for body in context.bodies {
+        for (index, body) in context.bodies.iter().enumerate() {
             if let Some(pressure) = pressure(body, context.position, context.time) {
-                add_volume_gradient(body, context.position, pressure, force);
+                let surfaces = &mut self.surfaces;
+                add_volume_gradient((index, body), surfaces, context.position, pressure, force);
             }
         }
     }
@@ -95,14 +107,20 @@ impl Force for GasPressure {
         self.gradient.clear();
         self.gradient.resize(x.len(), Vec3::ZERO);
         self.stiff.clear();
-        for body in context.bodies {
+        for (index, body) in context.bodies.iter().enumerate() {
             let Some(gas) = &body.gas else { continue };
             if gas.volume_model != VolumeModel::Exact {
                 continue;
             }
             let volume = gas.volume_model.volume(body, x);
             if volume > 0.0 {
-                add_volume_gradient(body, x, 1.0, &mut self.gradient);
+                add_volume_gradient(
+                    (index, body),
+                    &mut self.surfaces,
+                    x,
+                    1.0,
+                    &mut self.gradient,
+                );
                 let stiffness = gas.nrt_at(context.time) / (volume * volume);
                 self.stiff.push((body.particles.clone(), stiffness));
             }
@@ -118,18 +136,14 @@ impl Force for GasPressure {
         out: &mut [Vec3],
     ) {
         for (range, stiffness) in &self.stiff {
-            let along: Real = self.gradient[range.clone()]
-                .iter()
-                .zip(&p[range.clone()])
-                .map(|(g, p)| g.dot(*p))
-                .sum();
+            let (gradient, p) = (&self.gradient[range.clone()], &p[range.clone()]);
+            let along = parallel::sum(gradient.len(), |r| r.map(|i| gradient[i].dot(p[i])).sum());
             let factor = scale.position * stiffness * along;
-            for (o, g) in out[range.clone()]
-                .iter_mut()
-                .zip(&self.gradient[range.clone()])
-            {
-                *o -= factor * *g;
-            }
+            parallel::for_each_span(&mut out[range.clone()], |start, out| {
+                for (o, g) in out.iter_mut().zip(&gradient[start..]) {
+                    *o -= factor * *g;
+                }
+            });
         }
     }
 

@@ -17,10 +17,12 @@
 //! and on 2D loops (a segment of length `l` counts as an area `l` per metre
 //! of depth). The sign of a normal does not matter: `n` appears twice.
 
+use super::surfaces::Surfaces;
 use super::wind_field::WindField;
 use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::error::BuildError;
 use crate::measure::Energies;
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// Air density at sea level and 20 °C (kg/m³), the default of the area model.
@@ -77,6 +79,8 @@ pub struct Wind {
     pub body_scale: Vec<Real>,
     /// Scratch: the summed face normals around each particle (simple model).
     normals: Vec<Vec3>,
+    /// The bodies' surfaces in blocks for the threads.
+    surfaces: Surfaces,
 }
 
 impl Wind {
@@ -89,6 +93,7 @@ impl Wind {
             model,
             body_scale: Vec::new(),
             normals: Vec::new(),
+            surfaces: Surfaces::default(),
         })
     }
 
@@ -118,68 +123,73 @@ impl Wind {
         let x = context.position;
         self.normals.clear();
         self.normals.resize(x.len(), Vec3::ZERO);
-        for body in context.bodies {
-            for &[a, b, c] in &body.faces {
-                let n = (x[b as usize] - x[a as usize])
-                    .cross(x[c as usize] - x[a as usize])
-                    .normalize_or_zero();
-                for i in [a, b, c] {
-                    self.normals[i as usize] += n;
-                }
-            }
-            for &[a, b] in &body.segments {
-                let n = segment_normal(x[a as usize], x[b as usize]).normalize_or_zero();
-                for i in [a, b] {
-                    self.normals[i as usize] += n;
-                }
-            }
+        for (index, body) in context.bodies.iter().enumerate() {
+            let faces = self.surfaces.faces(index, body, x.len());
+            faces.scatter(&mut self.normals, |_, w| {
+                let [a, b, c] = [w.particle(0), w.particle(1), w.particle(2)];
+                let n = (x[b] - x[a]).cross(x[c] - x[a]).normalize_or_zero();
+                (0..3).for_each(|k| w.add(k, n));
+            });
+            let segments = self.surfaces.segments(index, body, x.len());
+            segments.scatter(&mut self.normals, |_, w| {
+                let n = segment_normal(x[w.particle(0)], x[w.particle(1)]).normalize_or_zero();
+                (0..2).for_each(|k| w.add(k, n));
+            });
         }
         for (index, body) in context.bodies.iter().enumerate() {
-            for i in body.particles.clone() {
-                let n = self.normals[i].normalize_or_zero();
-                if n != Vec3::ZERO {
-                    let relative = self.wind_at(index, x[i], context.time) - context.velocity[i];
-                    force[i] += coefficient * relative.dot(n) * n;
+            let range = body.particles.clone();
+            let normals = &self.normals[range.clone()];
+            let wind = &*self;
+            parallel::for_each_span(&mut force[range.clone()], |start, force| {
+                for (k, f) in force.iter_mut().enumerate() {
+                    let i = range.start + start + k;
+                    let n = normals[start + k].normalize_or_zero();
+                    if n != Vec3::ZERO {
+                        let relative =
+                            wind.wind_at(index, x[i], context.time) - context.velocity[i];
+                        *f += coefficient * relative.dot(n) * n;
+                    }
                 }
-            }
+            });
         }
     }
 
-    fn area(&self, air_density: Real, lift: Real, context: &ForceContext, force: &mut [Vec3]) {
+    fn area(&mut self, air_density: Real, lift: Real, context: &ForceContext, force: &mut [Vec3]) {
         let (x, v) = (context.position, context.velocity);
-        let push = |body: usize, vertices: &[usize], area_normal: Vec3, force: &mut [Vec3]| {
+        let (field, body_scale) = (&self.field, &self.body_scale);
+        // The force on a surface element of `vertices` with area normal
+        // `area_normal`, for each of its vertices.
+        let share = |body: usize, vertices: &[usize], area_normal: Vec3| -> Vec3 {
             let area = area_normal.length();
             if area == 0.0 {
-                return;
+                return Vec3::ZERO;
             }
             let count = vertices.len() as Real;
             let n = area_normal / area;
             let centroid = vertices.iter().map(|&i| x[i]).sum::<Vec3>() / count;
             let mean_velocity = vertices.iter().map(|&i| v[i]).sum::<Vec3>() / count;
-            let relative = self.wind_at(body, centroid, context.time) - mean_velocity;
+            let scale = body_scale.get(body).copied().unwrap_or(1.0);
+            let relative = scale * field.velocity_at(centroid, context.time) - mean_velocity;
             let mut f = air_density * area * relative.dot(n) * n;
             if lift != 0.0 {
                 let along = relative.normalize_or_zero();
                 f += lift * (f - f.dot(along) * along);
             }
-            for &i in vertices {
-                force[i] += f / count;
-            }
+            f / count
         };
         for (index, body) in context.bodies.iter().enumerate() {
-            for &[a, b, c] in &body.faces {
-                let (a, b, c) = (a as usize, b as usize, c as usize);
-                push(
-                    index,
-                    &[a, b, c],
-                    0.5 * (x[b] - x[a]).cross(x[c] - x[a]),
-                    force,
-                );
-            }
-            for &[a, b] in &body.segments {
-                let (a, b) = (a as usize, b as usize);
-                push(index, &[a, b], segment_normal(x[a], x[b]), force);
-            }
+            let faces = self.surfaces.faces(index, body, x.len());
+            faces.scatter(force, |_, w| {
+                let [a, b, c] = [w.particle(0), w.particle(1), w.particle(2)];
+                let f = share(index, &[a, b, c], 0.5 * (x[b] - x[a]).cross(x[c] - x[a]));
+                (0..3).for_each(|k| w.add(k, f));
+            });
+            let segments = self.surfaces.segments(index, body, x.len());
+            segments.scatter(force, |_, w| {
+                let [a, b] = [w.particle(0), w.particle(1)];
+                let f = share(index, &[a, b], segment_normal(x[a], x[b]));
+                (0..2).for_each(|k| w.add(k, f));
+            });
         }
     }
 }

@@ -1,9 +1,9 @@
 //! Threads, with results that do not depend on how many there are.
 //!
 //! The engine runs its long loops on rayon's thread pool: the current one
-//! (`ThreadPool::install`), else the global one, sized by `SPRUNG_THREADS`
-//! when set ([`configure_from_env`]), else by rayon's own default (every
-//! core). Whatever the number of threads, a run writes the same bits:
+//! (`ThreadPool::install`), else the global one, sized by [`configure`]
+//! (`sprung --threads N`), else by `SPRUNG_THREADS` when set, else by
+//! rayon's own default (every core). Whatever the number of threads, a run writes the same bits:
 //!
 //! - a loop over particles writes each particle's entries only, so the
 //!   threads never meet;
@@ -27,28 +27,72 @@ use rayon::prelude::*;
 
 use crate::Real;
 
-pub use schedule::{Block, Elements, Schedule, Writer};
+pub use schedule::{Block, Elements, Schedule, ScheduleCache, Writer};
 
 /// The number of elements a thread takes at a time, and the chunk of the
 /// fixed-order sums.
 pub const CHUNK: usize = 4096;
 
-/// Size rayon's global pool from `SPRUNG_THREADS` (a positive count), if it
-/// is set and the pool is not built yet. Returns the threads the global
+/// Why the engine's threads could not be set.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ThreadsError {
+    /// `SPRUNG_THREADS` is not a positive whole number.
+    #[error("SPRUNG_THREADS={0:?}: expected a positive whole number of threads")]
+    BadVariable(String),
+    /// A count of zero.
+    #[error("--threads 0: the engine needs at least one thread")]
+    Zero,
+    /// The pool could not be built (it was built already, with another size,
+    /// or the system refused the threads).
+    #[error("cannot run on {threads} threads: {reason}")]
+    Start {
+        /// The threads asked for.
+        threads: usize,
+        /// The reason rayon gave.
+        reason: String,
+    },
+}
+
+/// Size rayon's global pool, which the engine runs on: `threads` if given,
+/// else `SPRUNG_THREADS` if set, else rayon's default (`RAYON_NUM_THREADS`,
+/// else every core). Call it before the first step; returns the threads the
 /// pool has.
-pub fn configure_from_env() -> usize {
-    if let Some(threads) = std::env::var("SPRUNG_THREADS")
-        .ok()
-        .and_then(|v| v.trim().parse::<usize>().ok())
-        .filter(|&n| n > 0)
-    {
-        // An error means the pool was built already (by rayon or by an
-        // earlier call): it keeps its size.
-        let _ = rayon::ThreadPoolBuilder::new()
+pub fn configure(threads: Option<usize>) -> Result<usize, ThreadsError> {
+    let threads = match threads {
+        Some(0) => return Err(ThreadsError::Zero),
+        Some(n) => Some(n),
+        None => match std::env::var("SPRUNG_THREADS") {
+            Ok(text) => match text.trim().parse::<usize>() {
+                Ok(n) if n > 0 => Some(n),
+                _ => return Err(ThreadsError::BadVariable(text)),
+            },
+            Err(_) => None,
+        },
+    };
+    if let Some(threads) = threads {
+        let built = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build_global();
+        if let Err(error) = built {
+            if rayon::current_num_threads() != threads {
+                return Err(ThreadsError::Start {
+                    threads,
+                    reason: error.to_string(),
+                });
+            }
+        }
     }
-    rayon::current_num_threads()
+    Ok(rayon::current_num_threads())
+}
+
+/// [`configure`] from `SPRUNG_THREADS`, once per process, for a library
+/// user who did not call it ([`World::new`](crate::World::new) does); a
+/// malformed variable leaves rayon's default.
+pub fn configure_from_env() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let _ = configure(None);
+    });
 }
 
 /// `Σ f(piece)` over pieces of `0..len` of at most [`CHUNK`] indices, cut

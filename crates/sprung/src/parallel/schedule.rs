@@ -8,39 +8,56 @@ use rayon::prelude::*;
 
 use super::CHUNK;
 
-/// Elements (springs, triangles) of `W` particles each, sorted into blocks
-/// by the lowest particle they touch, with their own copy of their
-/// particles, so that they can add into their particles' entries from
-/// several threads at once ([`Schedule::for_each_block`]).
+/// Elements (springs, triangles) of `W` particles each, in blocks that can
+/// add into their particles' entries from several threads at once
+/// ([`Schedule::for_each_block`]), with their own copy of their particles.
 ///
-/// Block `b` holds the elements whose lowest particle is in
-/// `[b B, (b + 1) B)`, with `B` larger than the widest span of particle
-/// indices of an element (`D`): its writes stay in `[b B, (b + 2) B)`, so
-/// blocks two apart never meet. The even blocks run in parallel, then the
-/// odd ones, each block in the elements' own order: every particle receives
-/// its contributions in the same order whatever the number of threads, and
-/// a thread streams through neighbouring particles (builders number them
-/// along the body, so `D` is small: a row and a bit for a cloth). Since the
-/// writes go by the schedule's own copy of the particles, no change made to
-/// the elements afterwards can make two threads meet.
+/// The blocks run in phases: the blocks of a phase share no particle and
+/// run side by side; the phases run one after the other, and each block
+/// takes its elements in order. Every particle thus receives its
+/// contributions in the same order whatever the number of threads. Two
+/// ways of cutting the blocks, chosen by the elements alone:
+///
+/// - **by neighbourhood**, when the particles are numbered along the body
+///   (the builders' cloths, ropes and lattices): block `b` holds the
+///   elements whose lowest particle is in `[b B, (b + 1) B)`, with `B`
+///   larger than the widest span of particle indices of an element, so its
+///   writes stay in `[b B, (b + 2) B)`; the even blocks form one phase, the
+///   odd ones the next. A thread streams through neighbouring particles.
+/// - **by colour**, when that gives fewer than [`MIN_BLOCKS`] blocks (a mesh
+///   whose vertices are numbered in no local order): each element takes the
+///   first of 64 colours that none of its particles has yet (greedy
+///   colouring), a colour is a phase, cut into blocks of [`CHUNK`]
+///   elements; elements left without a colour make a last phase of one
+///   block.
+///
+/// Since the writes go by the schedule's own copy of the particles, no
+/// change made to the elements afterwards can make two threads meet.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Schedule<const W: usize> {
     /// The elements' particles, block by block.
     members: Vec<[u32; W]>,
     /// The elements' own indices, in the same order; empty when that order
     /// is theirs already (elements stored by lowest particle, as
-    /// `World::add_body` stores springs).
+    /// `World::add_body` stores springs, cut by neighbourhood).
     element: Vec<u32>,
-    /// Where each block starts in `members` (one more than the blocks).
-    starts: Vec<u32>,
+    /// Each block's elements (a range of `members`), phase by phase.
+    blocks: Vec<Range<usize>>,
+    /// Each phase's blocks (a range of `blocks`).
+    phases: Vec<Range<usize>>,
 }
+
+/// The fewest blocks cut by neighbourhood for the schedule to use them
+/// rather than colours.
+pub const MIN_BLOCKS: usize = 4;
 
 impl<const W: usize> Default for Schedule<W> {
     fn default() -> Self {
         Schedule {
             members: Vec::new(),
             element: Vec::new(),
-            starts: vec![0],
+            blocks: Vec::new(),
+            phases: Vec::new(),
         }
     }
 }
@@ -58,38 +75,98 @@ impl<const W: usize> Schedule<W> {
             .unwrap_or(0);
         let block = (span + 1).max(CHUNK);
         let blocks = particles.div_ceil(block).max(1);
-        let block_of = |m: &[u32; W]| (lowest(m) / block).min(blocks - 1);
-        let mut starts = vec![0u32; blocks + 1];
-        for m in &members {
-            starts[block_of(m) + 1] += 1;
+        if members.len() <= CHUNK || blocks >= MIN_BLOCKS {
+            let block_of = |m: &[u32; W]| (lowest(m) / block).min(blocks - 1);
+            let keys: Vec<usize> = members.iter().map(block_of).collect();
+            let even = (0..blocks).step_by(2).chain((1..blocks).step_by(2));
+            let phases = vec![0..blocks.div_ceil(2), blocks.div_ceil(2)..blocks];
+            Self::sorted(members, &keys, even.collect(), phases)
+        } else {
+            Self::coloured(members, particles)
         }
-        for b in 0..blocks {
-            starts[b + 1] += starts[b];
+    }
+
+    /// Cut by colour (see the type's documentation).
+    fn coloured(members: Vec<[u32; W]>, particles: usize) -> Self {
+        /// The colour of elements that found none free.
+        const LEFT: usize = u64::BITS as usize;
+        let mut used = vec![0u64; particles];
+        let colour: Vec<usize> = members
+            .iter()
+            .map(|m| {
+                let taken = m.iter().fold(0, |acc, &p| acc | used[p as usize]);
+                let c = (!taken).trailing_zeros() as usize;
+                if c < LEFT {
+                    m.iter().for_each(|&p| used[p as usize] |= 1 << c);
+                }
+                c
+            })
+            .collect();
+        let mut count = [0usize; LEFT + 1];
+        colour.iter().for_each(|&c| count[c] += 1);
+        // Blocks: each colour cut into CHUNK elements, the leftovers one.
+        let mut blocks = 0;
+        let mut phases = Vec::new();
+        let mut first_block_of = [0usize; LEFT + 1];
+        for (c, &n) in count.iter().enumerate() {
+            if n == 0 {
+                continue;
+            }
+            first_block_of[c] = blocks;
+            let pieces = if c == LEFT { 1 } else { n.div_ceil(CHUNK) };
+            phases.push(blocks..blocks + pieces);
+            blocks += pieces;
         }
-        if members
-            .windows(2)
-            .all(|w| block_of(&w[0]) <= block_of(&w[1]))
-        {
+        let mut seen = [0usize; LEFT + 1];
+        let slot: Vec<usize> = colour
+            .iter()
+            .map(|&c| {
+                let piece = if c == LEFT { 0 } else { seen[c] / CHUNK };
+                seen[c] += 1;
+                first_block_of[c] + piece
+            })
+            .collect();
+        Self::sorted(members, &slot, (0..blocks).collect(), phases)
+    }
+
+    /// Sort the elements into blocks (stably) by `key` (each element's
+    /// block); `order` lists the blocks phase by phase, `phases` cuts that
+    /// list.
+    fn sorted(
+        members: Vec<[u32; W]>,
+        key: &[usize],
+        order: Vec<usize>,
+        phases: Vec<Range<usize>>,
+    ) -> Self {
+        let keys = order.len();
+        let mut starts = vec![0usize; keys + 1];
+        key.iter().for_each(|&k| starts[k + 1] += 1);
+        for k in 0..keys {
+            starts[k + 1] += starts[k];
+        }
+        let blocks = order.iter().map(|&k| starts[k]..starts[k + 1]).collect();
+        if key.windows(2).all(|pair| pair[0] <= pair[1]) {
             return Schedule {
                 members,
                 element: Vec::new(),
-                starts,
+                blocks,
+                phases,
             };
         }
-        let mut fill = starts.clone();
+        let mut fill = starts;
         let mut sorted = vec![[0u32; W]; members.len()];
         let mut element = vec![0u32; members.len()];
-        for (e, m) in members.iter().enumerate() {
-            let b = block_of(m);
-            let at = fill[b] as usize;
-            fill[b] += 1;
+        for (e, (m, &k)) in members.iter().zip(key).enumerate() {
+            let at = fill[k];
+            fill[k] += 1;
             element[at] = e as u32;
             sorted[at] = *m;
         }
         Schedule {
             members: sorted,
             element,
-            starts,
+            blocks,
+            phases,
         }
     }
 
@@ -103,8 +180,8 @@ impl<const W: usize> Schedule<W> {
         self.members.is_empty()
     }
 
-    /// Call `f(element, writer)` for every element: the even blocks in
-    /// parallel, then the odd ones, each block in order; the writer adds
+    /// Call `f(element, writer)` for every element, phase by phase, the
+    /// blocks of a phase in parallel, each block in order; the writer adds
     /// into `out` at the element's own particles, and nowhere else.
     pub fn scatter<T: Send + Copy + AddAssign>(
         &self,
@@ -119,10 +196,10 @@ impl<const W: usize> Schedule<W> {
         });
     }
 
-    /// Call `f(block)` for every block: the even blocks in parallel, then
-    /// the odd ones. A [`Block`] lists its elements in order and adds into
-    /// `out` at their particles only; a kernel that takes its elements in
-    /// batches (the springs' force) works on a block at a time.
+    /// Call `f(block)` for every block, phase by phase, the blocks of a
+    /// phase in parallel. A [`Block`] lists its elements in order and adds
+    /// into `out` at their particles only; a kernel that takes its elements
+    /// in batches (the springs' force) works on a block at a time.
     pub fn for_each_block<T: Send + Copy + AddAssign>(
         &self,
         out: &mut [T],
@@ -139,9 +216,8 @@ impl<const W: usize> Schedule<W> {
             pointer: out.as_mut_ptr(),
             _slice: PhantomData,
         };
-        let blocks = self.starts.len() - 1;
         let run = |b: usize| {
-            let range = self.starts[b] as usize..self.starts[b + 1] as usize;
+            let range = self.blocks[b].clone();
             f(Block {
                 members: &self.members[range.clone()],
                 element: self.element.get(range.clone()),
@@ -149,16 +225,34 @@ impl<const W: usize> Schedule<W> {
                 shared: &shared,
             });
         };
-        if blocks <= 2 || self.len() <= CHUNK {
-            (0..blocks)
-                .step_by(2)
-                .chain((1..blocks).step_by(2))
-                .for_each(run);
-        } else {
-            for parity in 0..2 {
-                (parity..blocks).into_par_iter().step_by(2).for_each(run);
+        for phase in &self.phases {
+            if self.len() <= CHUNK || phase.len() < 2 {
+                phase.clone().for_each(run);
+            } else {
+                phase.clone().into_par_iter().for_each(run);
             }
         }
+    }
+}
+
+/// A [`Schedule`] kept for a list of elements that may change (a body's
+/// faces): made again whenever the list differs from the one it was made
+/// for (a comparison, a small part of a pass over the elements).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ScheduleCache<const W: usize> {
+    /// The elements the schedule was made for.
+    members: Vec<[u32; W]>,
+    schedule: Schedule<W>,
+}
+
+impl<const W: usize> ScheduleCache<W> {
+    /// The schedule of `members` (particles below `particles`).
+    pub fn get(&mut self, members: &[[u32; W]], particles: usize) -> &Schedule<W> {
+        if self.members != members || self.schedule.len() != members.len() {
+            self.members = members.to_vec();
+            self.schedule = Schedule::new(members.iter().copied(), particles);
+        }
+        &self.schedule
     }
 }
 
@@ -238,12 +332,15 @@ struct Disjoint<'a, T> {
 
 // SAFETY: a `Disjoint` is made and used only inside
 // `Schedule::for_each_block`, whose threads each run whole blocks of one
-// parity and write through their `Block`, which reaches only the particles
-// of the block's own elements. Block `b`'s elements have their lowest
-// particle in `[b B, (b + 1) B)` and span fewer than `B` particles
-// (`Schedule::new`), so its writes stay in `[b B, (b + 2) B)`; blocks of one
-// parity are two or more apart, so no two threads ever touch the same
-// entry; every particle is within the slice (checked in `for_each_block`).
+// phase and write through their `Block`, which reaches only the particles
+// of the block's own elements. The blocks of a phase share no particle
+// (`Schedule::new`): cut by neighbourhood, block `b`'s elements have their
+// lowest particle in `[b B, (b + 1) B)` and span fewer than `B` particles,
+// so its writes stay in `[b B, (b + 2) B)`, and the blocks of a phase are
+// all even or all odd, two or more apart; cut by colour, the elements of a
+// colour share no particle, and the elements left without one run as a
+// phase of a single block. So no two threads ever touch the same entry;
+// every particle is within the slice (checked in `for_each_block`).
 // `T: Send` lets the values move between threads.
 #[allow(unsafe_code)]
 unsafe impl<T: Send> Sync for Disjoint<'_, T> {}
@@ -264,5 +361,175 @@ impl<T: Copy + AddAssign, const W: usize> Writer<'_, T, W> {
     /// Add `value` to the entry of the element's `k`-th particle.
     pub fn add(&self, k: usize, value: T) {
         self.block.add(self.e, k, value);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Springs of a `side × side` grid (right, down and the two-apart
+    /// bending neighbours), numbered along rows.
+    fn grid(side: u32) -> Vec<[u32; 2]> {
+        let mut springs = Vec::new();
+        for row in 0..side {
+            for column in 0..side {
+                let i = row * side + column;
+                for (dr, dc) in [(0, 1), (1, 0), (0, 2), (2, 0), (1, 1)] {
+                    if row + dr < side && column + dc < side {
+                        springs.push([i, i + dr * side + dc]);
+                    }
+                }
+            }
+        }
+        springs
+    }
+
+    /// A pseudo-random shuffle of `0..n` (the numbering of a mesh with no
+    /// local order).
+    fn shuffled(n: u32) -> Vec<u32> {
+        let mut order: Vec<u32> = (0..n).collect();
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        for i in (1..order.len()).rev() {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            order.swap(i, (state % (i as u64 + 1)) as usize);
+        }
+        order
+    }
+
+    /// Each element's contribution, a value with many significant bits so
+    /// that a change of the order of additions changes the sum's rounding.
+    fn contribution(e: usize, k: usize) -> f64 {
+        ((e * 2 + k) as f64 * 0.618_033_988_749_895).sin() * 1e3 + 1e-7 * e as f64
+    }
+
+    /// Add every element's contributions through the schedule, on a pool
+    /// of `threads`.
+    fn scatter<const W: usize>(
+        schedule: &Schedule<W>,
+        particles: usize,
+        threads: usize,
+    ) -> Vec<f64> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        let mut out = vec![0.0; particles];
+        pool.install(|| {
+            schedule.scatter(&mut out, |e, w| {
+                for k in 0..W {
+                    w.add(k, contribution(e, k));
+                }
+            })
+        });
+        out
+    }
+
+    /// Every element is visited once, the sums are right (to rounding),
+    /// and they are the same bits on 1, 2 and 3 threads.
+    fn check<const W: usize>(members: &[[u32; W]], particles: usize) -> Schedule<W> {
+        let schedule = Schedule::new(members.iter().copied(), particles);
+        assert_eq!(schedule.len(), members.len());
+        let mut serial = vec![0.0; particles];
+        for (e, m) in members.iter().enumerate() {
+            for (k, &p) in m.iter().enumerate() {
+                serial[p as usize] += contribution(e, k);
+            }
+        }
+        let one = scatter(&schedule, particles, 1);
+        for (a, b) in one.iter().zip(&serial) {
+            // The same terms in another order: a few roundings of 1e3-sized
+            // terms, fewer than 20 per particle.
+            assert!((a - b).abs() < 1e-9, "{a} vs {b}");
+        }
+        for threads in [2, 3] {
+            let many = scatter(&schedule, particles, threads);
+            assert!(
+                one.iter()
+                    .zip(&many)
+                    .all(|(a, b)| a.to_bits() == b.to_bits()),
+                "{threads} threads give other bits than one"
+            );
+        }
+        schedule
+    }
+
+    /// The blocks of each phase share no particle.
+    fn assert_phases_disjoint<const W: usize>(schedule: &Schedule<W>, particles: usize) {
+        for phase in &schedule.phases {
+            let mut owner = vec![usize::MAX; particles];
+            for b in phase.clone() {
+                for m in &schedule.members[schedule.blocks[b].clone()] {
+                    for &p in m {
+                        let p = p as usize;
+                        assert!(
+                            owner[p] == usize::MAX || owner[p] == b,
+                            "blocks meet at {p}"
+                        );
+                        owner[p] = b;
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_grid_numbered_along_rows_is_cut_by_neighbourhood_in_place() {
+        let side = 160;
+        let springs = grid(side);
+        let particles = (side * side) as usize;
+        let schedule = check(&springs, particles);
+        assert!(
+            schedule.element.is_empty(),
+            "stored in order: no permutation"
+        );
+        assert_eq!(schedule.phases.len(), 2);
+        assert!(schedule.blocks.len() >= MIN_BLOCKS);
+        assert_phases_disjoint(&schedule, particles);
+    }
+
+    #[test]
+    fn a_shuffled_numbering_is_cut_by_colour() {
+        let side = 160;
+        let relabel = shuffled(side * side);
+        let springs: Vec<[u32; 2]> = grid(side)
+            .into_iter()
+            .map(|[i, j]| [relabel[i as usize], relabel[j as usize]])
+            .collect();
+        let particles = (side * side) as usize;
+        let schedule = check(&springs, particles);
+        assert!(schedule.phases.len() > 2, "colours expected");
+        assert_phases_disjoint(&schedule, particles);
+        // Triangles of the same shuffled grid.
+        let mut triangles = Vec::new();
+        for row in 0..side - 1 {
+            for column in 0..side - 1 {
+                let i = row * side + column;
+                let r = |p: u32| relabel[p as usize];
+                triangles.push([r(i), r(i + 1), r(i + side)]);
+                triangles.push([r(i + 1), r(i + side + 1), r(i + side)]);
+            }
+        }
+        let schedule = check(&triangles, particles);
+        assert_phases_disjoint(&schedule, particles);
+    }
+
+    #[test]
+    fn more_than_64_elements_on_one_particle_still_add_up() {
+        // A star: 5000 springs from particle 0 need 5000 colours; the ones
+        // beyond 64 run in a last phase of one block.
+        let particles = 5001;
+        let star: Vec<[u32; 2]> = (1..particles as u32).map(|j| [j, 0]).collect();
+        let schedule = check(&star, particles);
+        assert_phases_disjoint(&schedule, particles);
+    }
+
+    #[test]
+    fn no_elements_and_few_elements() {
+        let schedule = check::<2>(&[], 10);
+        assert!(schedule.is_empty());
+        check(&[[3, 1], [1, 2], [0, 3]], 4);
     }
 }

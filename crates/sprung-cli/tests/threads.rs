@@ -1,0 +1,192 @@
+//! The same scene on 1 and on 2 threads writes byte-identical
+//! `diagnostics.csv` and frames: every parallel loop of the engine writes
+//! each particle's entries only, adds shared contributions block by block
+//! in a fixed order, and sums in a tree fixed by the length (see
+//! `sprung::parallel`). The scenes are large enough (more than the 4096
+//! particles of one `parallel::CHUNK`) for the work to be split.
+
+mod common;
+
+use common::{sprung, text, write};
+
+/// A 100 × 100 cloth (10 000 particles: three chunks, three blocks of
+/// springs) in wind, by the given integrator, hanging from two corners.
+fn cloth(integrator: &str, dt: f64, steps: u32, extra: &str) -> String {
+    format!(
+        r#"[sim]
+dt = {dt}
+integrator = "{integrator}"
+steps = {steps}
+every = 1
+
+[[body]]
+name = "cloth"
+cloth = {{ nx = 100, ny = 100, width = 1.0, height = 1.0 }}
+mass = 0.002
+stiffness = 2.0e4
+damping = 0.01
+rotate = [60.0, 0.0, 0.0]
+pinned = [0, 99]
+translate = [0.0, 1.0, 0.0]
+{extra}
+
+[wind]
+velocity = [0.0, 0.0, 3.0]
+model = "simple"
+coefficient = 0.002
+"#
+    )
+}
+
+/// A gas ball of 10 242 particles (icosphere, 5 subdivisions) dropped on
+/// a plane.
+fn gas_ball(integrator: &str) -> String {
+    format!(
+        r#"[sim]
+dt = 1e-4
+integrator = "{integrator}"
+steps = 12
+every = 1
+
+[[body]]
+name = "ball"
+sphere = {{ radius = 0.5, subdivisions = 5 }}
+total_mass = 1.0
+stiffness = 5000.0
+damping = 0.1
+translate = [0.0, 0.52, 0.0]
+velocity = [0.3, -1.0, 0.0]
+gas = {{ nrt = 300.0, ramp_time = 0.0 }}
+
+[[collider]]
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+restitution = 0.3
+friction = 0.3
+"#
+    )
+}
+
+/// Two gas balls of 2562 particles thrown into each other (touching
+/// within the thickness from the start), and a falling cloth that
+/// searches for contact with itself.
+const CONTACTS: &str = r#"[sim]
+dt = 4e-5
+integrator = "symplectic_euler"
+steps = 40
+every = 1
+gravity = [0.0, 0.0, 0.0]
+
+[contact]
+thickness = 0.01
+friction = 0.3
+
+[[body]]
+name = "left"
+sphere = { radius = 0.5, subdivisions = 4 }
+total_mass = 1.0
+stiffness = 2000.0
+damping = 0.5
+translate = [-0.503, 0.0, 0.0]
+velocity = [2.0, 0.0, 0.0]
+gas = { nrt = 500.0, ramp_time = 0.0 }
+
+[[body]]
+name = "right"
+sphere = { radius = 0.5, subdivisions = 4 }
+total_mass = 1.0
+stiffness = 2000.0
+damping = 0.5
+translate = [0.503, 0.05, 0.0]
+velocity = [-2.0, 0.0, 0.0]
+gas = { nrt = 500.0, ramp_time = 0.0 }
+
+[[body]]
+name = "sheet"
+cloth = { nx = 60, ny = 60, width = 1.0, height = 1.0 }
+mass = 0.002
+stiffness = 2000.0
+damping = 0.01
+translate = [-0.5, 1.0, 0.0]
+velocity = [0.0, -1.0, 0.0]
+self_collision = true
+"#;
+
+/// Run `scene` on `threads` threads, frames as VTK; the bytes of
+/// diagnostics.csv and of every frame, in order.
+fn run(scene: &str, threads: &str) -> Vec<(String, Vec<u8>)> {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = write(dir.path(), "scene.toml", scene);
+    let out = dir.path().join("out");
+    let output = sprung(
+        &[
+            "--threads",
+            threads,
+            "run",
+            path.to_str().expect("utf-8 path"),
+            "--out",
+            out.to_str().expect("utf-8 path"),
+            "--format",
+            "vtk",
+            "--quiet",
+        ],
+        dir.path(),
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let mut files = vec![(
+        "diagnostics.csv".to_string(),
+        std::fs::read(out.join("diagnostics.csv")).expect("diagnostics"),
+    )];
+    let mut frames: Vec<_> = std::fs::read_dir(out.join("frames"))
+        .expect("frames")
+        .flatten()
+        .map(|e| e.path())
+        .collect();
+    frames.sort();
+    assert!(!frames.is_empty(), "no frames written");
+    for frame in frames {
+        let name = frame
+            .file_name()
+            .expect("name")
+            .to_string_lossy()
+            .into_owned();
+        files.push((name, std::fs::read(&frame).expect("frame")));
+    }
+    files
+}
+
+/// The files of 1 and 2 threads are the same bytes.
+fn assert_same_on_one_and_two_threads(scene: &str, what: &str) {
+    let one = run(scene, "1");
+    let two = run(scene, "2");
+    assert_eq!(one.len(), two.len(), "{what}: number of files");
+    for ((name, a), (_, b)) in one.iter().zip(&two) {
+        assert!(a == b, "{what}: {name} differs between 1 and 2 threads");
+    }
+}
+
+#[test]
+fn explicit_cloth_in_wind_is_the_same_on_one_and_two_threads() {
+    let scene = cloth("symplectic_euler", 1e-4, 20, "");
+    assert_same_on_one_and_two_threads(&scene, "symplectic Euler cloth");
+    let scene = cloth("rk45", 1e-3, 3, "");
+    assert_same_on_one_and_two_threads(&scene, "rk45 cloth");
+}
+
+#[test]
+fn gas_ball_is_the_same_on_one_and_two_threads() {
+    assert_same_on_one_and_two_threads(&gas_ball("rk4"), "rk4 gas ball");
+    assert_same_on_one_and_two_threads(&gas_ball("verlet"), "verlet gas ball");
+}
+
+#[test]
+fn contacts_are_the_same_on_one_and_two_threads() {
+    assert_same_on_one_and_two_threads(CONTACTS, "contacts");
+}
+
+#[test]
+fn implicit_solvers_are_the_same_on_one_and_two_threads() {
+    let scene = cloth("implicit_euler", 1.0 / 60.0, 3, "");
+    assert_same_on_one_and_two_threads(&scene, "implicit Euler cloth");
+    let scene = cloth("projective", 1.0 / 60.0, 3, "");
+    assert_same_on_one_and_two_threads(&scene, "projective cloth");
+}
