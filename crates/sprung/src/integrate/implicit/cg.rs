@@ -7,6 +7,7 @@
 //! the preconditioner come from the caller as an [`Operator`].
 
 use crate::collide::ContactConstraint;
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// A symmetric positive definite matrix `A` and a preconditioner `P ≈ A`,
@@ -20,9 +21,15 @@ pub(super) trait Operator {
 
 /// The Jacobi preconditioner: `P⁻¹ r = r / diag(A)`, per component.
 pub(super) fn jacobi(inverse_diagonal: &[Vec3], r: &[Vec3], z: &mut [Vec3]) {
-    for ((z, r), d) in z.iter_mut().zip(r).zip(inverse_diagonal) {
-        *z = *r * *d;
-    }
+    parallel::for_each_span(z, |start, z| {
+        for ((z, r), d) in z
+            .iter_mut()
+            .zip(&r[start..])
+            .zip(&inverse_diagonal[start..])
+        {
+            *z = *r * *d;
+        }
+    });
 }
 
 /// How a solve ended.
@@ -61,18 +68,38 @@ pub(super) struct ConjugateGradient {
 }
 
 /// `Σ a_i · b_i` over particle vectors.
+/// (In the fixed tree of [`parallel::sum`]: the same bits on any number of
+/// threads.)
 fn dot(a: &[Vec3], b: &[Vec3]) -> Real {
-    a.iter().zip(b).map(|(a, b)| a.dot(*b)).sum()
+    parallel::sum(a.len().min(b.len()), |range| {
+        a[range.clone()]
+            .iter()
+            .zip(&b[range])
+            .map(|(a, b)| a.dot(*b))
+            .sum()
+    })
+}
+
+/// `y += alpha x` over particle vectors.
+fn add_scaled(y: &mut [Vec3], alpha: Real, x: &[Vec3]) {
+    parallel::for_each_span(y, |start, y| {
+        for (y, x) in y.iter_mut().zip(&x[start..]) {
+            *y += alpha * *x;
+        }
+    });
 }
 
 /// Remove the constrained directions from `v`: all of a pinned particle's,
 /// the normal of a particle in contact.
 fn filter(v: &mut [Vec3], limits: &Limits) {
-    for (v, &w) in v.iter_mut().zip(limits.inverse_mass) {
-        if w == 0.0 {
-            *v = Vec3::ZERO;
+    let inverse_mass = limits.inverse_mass;
+    parallel::for_each_span(&mut *v, |start, v| {
+        for (v, &w) in v.iter_mut().zip(&inverse_mass[start..]) {
+            if w == 0.0 {
+                *v = Vec3::ZERO;
+            }
         }
-    }
+    });
     for c in limits.contacts {
         let v = &mut v[c.particle];
         *v -= v.dot(c.normal) * c.normal;
@@ -103,9 +130,8 @@ impl ConjugateGradient {
         }
         if x.iter().any(|x| *x != Vec3::ZERO) {
             operator.apply(x, &mut self.product);
-            for ((r, b), q) in self.residual.iter_mut().zip(b).zip(&self.product) {
-                *r = *b - *q;
-            }
+            self.residual.copy_from_slice(b);
+            add_scaled(&mut self.residual, -1.0, &self.product);
         } else {
             self.residual.copy_from_slice(b);
         }
@@ -134,12 +160,8 @@ impl ConjugateGradient {
                 break;
             }
             let alpha = rz / curvature;
-            for (x, p) in x.iter_mut().zip(&self.direction) {
-                *x += alpha * *p;
-            }
-            for (r, q) in self.residual.iter_mut().zip(&self.product) {
-                *r -= alpha * *q;
-            }
+            add_scaled(x, alpha, &self.direction);
+            add_scaled(&mut self.residual, -alpha, &self.product);
             iterations += 1;
             residual = dot(&self.residual, &self.residual).sqrt() / b_norm;
             if residual <= limits.tolerance {
@@ -150,9 +172,12 @@ impl ConjugateGradient {
             let rz_next = dot(&self.residual, &self.preconditioned);
             let beta = rz_next / rz;
             rz = rz_next;
-            for (p, z) in self.direction.iter_mut().zip(&self.preconditioned) {
-                *p = *z + beta * *p;
-            }
+            let preconditioned = &self.preconditioned;
+            parallel::for_each_span(&mut self.direction[..], |start, p| {
+                for (p, z) in p.iter_mut().zip(&preconditioned[start..]) {
+                    *p = *z + beta * *p;
+                }
+            });
         }
         CgOutcome {
             iterations,

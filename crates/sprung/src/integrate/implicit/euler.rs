@@ -45,11 +45,12 @@
 
 use super::cg::{jacobi, ConjugateGradient, Limits, Operator};
 use super::laplacian::{self, Factor};
-use super::{Preconditioner, SolverSettings};
+use super::{mass_minus, Preconditioner, SolverSettings};
 use crate::collide::ContactConstraint;
 use crate::error::SolverError;
 use crate::forces::{JacobianScale, Jacobians};
 use crate::integrate::{fit, Derivative, Integrator, IntegratorKind, State, StepReport};
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// Backward Euler with its Newton and conjugate-gradient buffers.
@@ -83,9 +84,7 @@ impl Operator for NewtonMatrix<'_> {
     fn apply(&mut self, p: &[Vec3], out: &mut [Vec3]) {
         self.system
             .jacobian_products(self.state, Jacobians::All, self.scale, p, out);
-        for ((o, p), &m) in out.iter_mut().zip(p).zip(self.system.mass()) {
-            *o = m * *p - *o;
-        }
+        mass_minus(self.system.mass(), p, out);
     }
 
     fn precondition(&mut self, r: &[Vec3], z: &mut [Vec3]) {
@@ -153,10 +152,13 @@ impl Integrator for ImplicitEuler {
             };
             system.linearize(state, Jacobians::All);
             let mass = system.mass();
-            for i in 0..n {
-                self.right_side[i] =
-                    dt * self.force[i] - mass[i] * (velocity[i] - self.start_velocity[i]);
-            }
+            let (force, start_velocity, v) = (&self.force, &self.start_velocity, &*velocity);
+            parallel::for_each_span(&mut self.right_side[..], |start, b| {
+                for (k, b) in b.iter_mut().enumerate() {
+                    let i = start + k;
+                    *b = dt * force[i] - mass[i] * (v[i] - start_velocity[i]);
+                }
+            });
             if newton == 0 {
                 // dt K (x_n + dt v_n - x_n) = dt² K v_n.
                 let scale = JacobianScale {
@@ -170,9 +172,12 @@ impl Integrator for ImplicitEuler {
                     &self.start_velocity,
                     &mut self.product,
                 );
-                for (b, q) in self.right_side.iter_mut().zip(&self.product) {
-                    *b += *q;
-                }
+                let product = &self.product;
+                parallel::for_each_span(&mut self.right_side[..], |start, b| {
+                    for (b, q) in b.iter_mut().zip(&product[start..]) {
+                        *b += *q;
+                    }
+                });
             }
             system.jacobian_diagonal(
                 state,
@@ -180,14 +185,16 @@ impl Integrator for ImplicitEuler {
                 matrix_scale,
                 &mut self.inverse_diagonal,
             );
-            for (d, &m) in self.inverse_diagonal.iter_mut().zip(mass) {
-                let entry = Vec3::splat(m) - *d;
-                *d = if entry.min_element() > 0.0 && entry.is_finite() {
-                    entry.recip()
-                } else {
-                    Vec3::splat(1.0 / m)
-                };
-            }
+            parallel::for_each_span(&mut self.inverse_diagonal[..], |start, d| {
+                for (d, &m) in d.iter_mut().zip(&mass[start..]) {
+                    let entry = Vec3::splat(m) - *d;
+                    *d = if entry.min_element() > 0.0 && entry.is_finite() {
+                        entry.recip()
+                    } else {
+                        Vec3::splat(1.0 / m)
+                    };
+                }
+            });
             let factor = match solver.preconditioner {
                 Preconditioner::Jacobi => None,
                 Preconditioner::Laplacian => {
@@ -243,10 +250,13 @@ impl Integrator for ImplicitEuler {
             for (c, &impulse) in self.contacts.iter_mut().zip(&self.impulses) {
                 c.normal_change = impulse.max(0.0) / mass[c.particle];
             }
-            for i in 0..n {
-                velocity[i] += self.correction[i];
-                position[i] = self.start_position[i] + dt * velocity[i];
-            }
+            let (correction, start_position) = (&self.correction, &self.start_position);
+            parallel::for_each_span((&mut *position, &mut *velocity), |start, (x, v)| {
+                for (k, (x, v)) in x.iter_mut().zip(v).enumerate() {
+                    *v += correction[start + k];
+                    *x = start_position[start + k] + dt * *v;
+                }
+            });
         }
         for c in &self.contacts {
             c.apply_friction(&mut velocity[c.particle]);

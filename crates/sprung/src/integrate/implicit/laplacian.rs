@@ -22,6 +22,7 @@ use faer::{Conj, Mat, Par, Side};
 
 use crate::error::SolverError;
 use crate::integrate::Derivative;
+use crate::parallel::Schedule;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
 
@@ -75,6 +76,8 @@ pub(super) struct Factor {
     solve_scratch: MemBuffer,
     /// The right side of a solve, one column per axis.
     right_side: Mat<Real>,
+    /// The springs in blocks, for the Laplacian's products.
+    springs: Schedule<2>,
 }
 
 impl fmt::Debug for Factor {
@@ -190,7 +193,10 @@ impl Factor {
             MemBuffer::try_new(symbolic.solve_in_place_scratch::<Real>(3, Par::Seq))
                 .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
         let right_side = Mat::zeros(particle.len(), 3);
+        let members = springs.first.iter().zip(&springs.second);
+        let springs = Schedule::new(members.map(|(&i, &j)| [i, j]), mass.len());
         Ok(Factor {
+            springs,
             key,
             unknown,
             particle,
@@ -201,8 +207,9 @@ impl Factor {
         })
     }
 
-    /// Add `scale L p` over the free rows to `out` (see
-    /// [`add_laplacian_product`]).
+    /// Add `scale L p` over the free rows (`L_ff p_f`) to `out`: per
+    /// spring, `k (p_i - p_j)` to `i` and its opposite to `j`, pinned ends
+    /// counted as zero; springs added block by block ([`Schedule`]).
     pub(super) fn add_laplacian_product(
         &self,
         springs: &Springs,
@@ -210,7 +217,21 @@ impl Factor {
         p: &[Vec3],
         out: &mut [Vec3],
     ) {
-        add_laplacian_product(springs, &self.unknown, scale, p, out);
+        let free = |i: usize| self.unknown[i] != PINNED;
+        self.springs.scatter(out, |s, w| {
+            let (i, j) = (w.particle(0), w.particle(1));
+            let (pi, pj) = (
+                if free(i) { p[i] } else { Vec3::ZERO },
+                if free(j) { p[j] } else { Vec3::ZERO },
+            );
+            let pull = scale * springs.stiffness[s] * (pi - pj);
+            if free(i) {
+                w.add(0, pull);
+            }
+            if free(j) {
+                w.add(1, -pull);
+            }
+        });
     }
 
     /// `z = (M + dt² L)⁻¹ r` over the free particles; zero for pinned ones.
@@ -233,33 +254,6 @@ impl Factor {
                 self.right_side[(row, 1)],
                 self.right_side[(row, 2)],
             );
-        }
-    }
-}
-
-/// Add `scale L p` over the free rows (`L_ff p_f`) to `out`: per spring,
-/// `k (p_i - p_j)` to `i` and its opposite to `j`, pinned ends counted as
-/// zero.
-fn add_laplacian_product(
-    springs: &Springs,
-    unknown: &[u32],
-    scale: Real,
-    p: &[Vec3],
-    out: &mut [Vec3],
-) {
-    let free = |i: usize| unknown[i] != PINNED;
-    for s in 0..springs.len() {
-        let (i, j) = (springs.first[s] as usize, springs.second[s] as usize);
-        let (pi, pj) = (
-            if free(i) { p[i] } else { Vec3::ZERO },
-            if free(j) { p[j] } else { Vec3::ZERO },
-        );
-        let pull = scale * springs.stiffness[s] * (pi - pj);
-        if free(i) {
-            out[i] += pull;
-        }
-        if free(j) {
-            out[j] -= pull;
         }
     }
 }

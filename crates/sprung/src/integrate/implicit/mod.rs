@@ -19,7 +19,8 @@ pub use euler::ImplicitEuler;
 pub use projective::Projective;
 
 use crate::error::BuildError;
-use crate::Real;
+use crate::parallel;
+use crate::{Real, Vec3};
 
 /// The preconditioner of implicit Euler's conjugate gradients.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -120,4 +121,23 @@ impl SolverSettings {
         }
         Ok(())
     }
+}
+
+/// `out = M p - out` (`M` the diagonal of `mass`, kg): the mass term of the
+/// solvers' matrices, less the force Jacobians' product already in `out`.
+fn mass_minus(mass: &[Real], p: &[Vec3], out: &mut [Vec3]) {
+    parallel::for_each_span(out, |start, out| {
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = mass[start + k] * p[start + k] - *o;
+        }
+    });
+}
+
+/// `v = (x - x_start) / dt` (m/s), the velocity of a step of `dt` (s).
+fn finite_difference(position: &[Vec3], start_position: &[Vec3], dt: Real, velocity: &mut [Vec3]) {
+    parallel::for_each_span(velocity, |start, v| {
+        for (k, v) in v.iter_mut().enumerate() {
+            *v = (position[start + k] - start_position[start + k]) / dt;
+        }
+    });
 }

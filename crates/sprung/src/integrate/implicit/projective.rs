@@ -43,11 +43,12 @@
 
 use super::cg::{ConjugateGradient, Limits, Operator};
 use super::laplacian::{self, Factor};
-use super::SolverSettings;
+use super::{finite_difference, mass_minus, SolverSettings};
 use crate::collide::ContactConstraint;
 use crate::error::SolverError;
 use crate::forces::{JacobianScale, Jacobians};
 use crate::integrate::{fit, Derivative, Integrator, IntegratorKind, State, StepReport};
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// The projective solver with its factored matrix and buffers.
@@ -82,9 +83,7 @@ impl Operator for GlobalMatrix<'_> {
         };
         self.system
             .jacobian_products(self.state, Jacobians::AllButSprings, scale, p, out);
-        for ((o, p), &m) in out.iter_mut().zip(p).zip(self.system.mass()) {
-            *o = m * *p - *o;
-        }
+        mass_minus(self.system.mass(), p, out);
         self.factor
             .add_laplacian_product(self.system.springs(), dt * dt, p, out);
     }
@@ -130,10 +129,13 @@ impl Integrator for Projective {
         };
         system.contact_constraints(start, dt, &mut self.contacts);
         self.start_position.copy_from_slice(position);
-        for i in 0..n {
-            self.inertial[i] = position[i] + dt * velocity[i];
-            position[i] = self.inertial[i];
-        }
+        let v = &*velocity;
+        parallel::for_each_span((&mut *position, &mut self.inertial[..]), |start, (x, y)| {
+            for (k, (x, y)) in x.iter_mut().zip(y).enumerate() {
+                *y = *x + dt * v[start + k];
+                *x = *y;
+            }
+        });
         let mut report = StepReport {
             iterations: Some(solver.iterations),
             residual: Some(0.0),
@@ -141,15 +143,16 @@ impl Integrator for Projective {
         };
         let time = time + dt;
         for iteration in 0..solver.iterations {
-            for i in 0..n {
-                velocity[i] = (position[i] - self.start_position[i]) / dt;
-            }
+            finite_difference(position, &self.start_position, dt, velocity);
             system.force(time, position, velocity, &mut self.force);
             let mass = system.mass();
-            for i in 0..n {
-                self.residual[i] =
-                    mass[i] * (self.inertial[i] - position[i]) + dt * dt * self.force[i];
-            }
+            let (inertial, force, x) = (&self.inertial, &self.force, &*position);
+            parallel::for_each_span(&mut self.residual[..], |start, r| {
+                for (k, r) in r.iter_mut().enumerate() {
+                    let i = start + k;
+                    *r = mass[i] * (inertial[i] - x[i]) + dt * dt * force[i];
+                }
+            });
             let state = State {
                 time,
                 position,
@@ -207,13 +210,14 @@ impl Integrator for Projective {
             for (c, &impulse) in self.contacts.iter_mut().zip(&self.impulses) {
                 c.normal_change = impulse.max(0.0) / (mass[c.particle] * dt);
             }
-            for (x, d) in position.iter_mut().zip(&self.correction) {
-                *x += *d;
-            }
+            let correction = &self.correction;
+            parallel::for_each_span(&mut *position, |start, x| {
+                for (x, d) in x.iter_mut().zip(&correction[start..]) {
+                    *x += *d;
+                }
+            });
         }
-        for i in 0..n {
-            velocity[i] = (position[i] - self.start_position[i]) / dt;
-        }
+        finite_difference(position, &self.start_position, dt, velocity);
         for c in &self.contacts {
             let i = c.particle;
             c.apply_friction(&mut velocity[i]);
