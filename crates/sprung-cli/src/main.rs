@@ -6,6 +6,10 @@
 //! written, 2 for a malformed command line, 3 when the simulation blew up.
 
 mod bench;
+
+/// Counts heap use, for the bench's peak memory and allocations per step.
+#[global_allocator]
+static ALLOCATOR: bench::memory::Counting = bench::memory::Counting;
 mod demos;
 mod plot;
 mod render;
@@ -60,15 +64,8 @@ enum Command {
     /// Studies of a scene: `stability` (each integrator's largest stable dt and its cost).
     #[command(subcommand)]
     Study(study::StudyCommand),
-    /// Measure the engine's speed: spring updates per second on a 128×128 cloth, steps per second of gas balls.
-    Bench {
-        /// Particles along each side of the cloth.
-        #[arg(long, default_value_t = 128)]
-        size: usize,
-        /// Steps timed per integrator.
-        #[arg(long, default_value_t = 50)]
-        steps: u32,
-    },
+    /// Measure the engine's speed: cloths, every integrator, gas balls, the stiff cloth, contact; on 1 thread and all.
+    Bench(bench::BenchArgs),
 }
 
 /// Options shared by `run` and `demo`.
@@ -121,7 +118,7 @@ fn main() -> ExitCode {
                 demos::run(name.as_deref(), &options)
             }
         }
-        Command::Bench { size, steps } => bench::run(size, steps),
+        Command::Bench(args) => bench::run(&args),
         Command::Render(args) => render::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::View(args) => view::run(&args),

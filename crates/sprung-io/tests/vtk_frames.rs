@@ -56,7 +56,8 @@ fn frames_carry_rest_length_strain_and_outline_per_cell() {
     let strain = frame.line_scalars("strain").expect("strain");
     for s in 0..springs {
         let p = &world.particles.position;
-        let d = p[world.springs.first[s] as usize].distance(p[world.springs.second[s] as usize]);
+        let d =
+            p[world.springs.first()[s] as usize].distance(p[world.springs.second()[s] as usize]);
         let expected = (d - world.springs.rest_length[s]) / world.springs.rest_length[s];
         assert_eq!(strain[s], expected);
     }
@@ -79,7 +80,7 @@ fn a_frame_reads_back_exactly() {
     assert_eq!(frame.step, Some(world.steps()));
     assert_eq!(frame.time, Some(world.time()));
     let lines: Vec<Vec<u32>> = (0..world.springs.len())
-        .map(|s| vec![world.springs.first[s], world.springs.second[s]])
+        .map(|s| vec![world.springs.first()[s], world.springs.second()[s]])
         .collect();
     assert_eq!(frame.lines, lines);
     let faces: Vec<Vec<u32>> = world

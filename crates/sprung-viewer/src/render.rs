@@ -54,7 +54,7 @@ pub fn full_strain(world: &World, current: f32, scratch: &mut Vec<f32>) -> f32 {
     let x = &world.particles.position;
     scratch.clear();
     scratch.extend((0..s.len()).map(|k| {
-        let length = (x[s.second[k] as usize] - x[s.first[k] as usize]).length();
+        let length = (x[s.second()[k] as usize] - x[s.first()[k] as usize]).length();
         ((length / s.rest_length[k] - 1.0).abs()) as f32
     }));
     if scratch.is_empty() {

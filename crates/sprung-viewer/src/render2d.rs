@@ -58,7 +58,7 @@ pub fn draw(world: &World, view: &View, viewport: Rect, look: &Look) {
     }
     let s = &world.springs;
     for k in 0..s.len() {
-        let (a, b) = (s.first[k] as usize, s.second[k] as usize);
+        let (a, b) = (s.first()[k] as usize, s.second()[k] as usize);
         let length = (world.particles.position[b] - world.particles.position[a]).length();
         let strain = ((length - s.rest_length[k]) / s.rest_length[k]) as f32;
         let (p, q) = (x[a], x[b]);

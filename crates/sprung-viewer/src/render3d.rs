@@ -87,7 +87,7 @@ impl Renderer3d {
 fn springs(world: &World, x: &[Vec3], range: Range<usize>, (eye, lift): (Vec3, f32), full: f32) {
     let s = &world.springs;
     for k in range {
-        let (a, b) = (x[s.first[k] as usize], x[s.second[k] as usize]);
+        let (a, b) = (x[s.first()[k] as usize], x[s.second()[k] as usize]);
         let rest = s.rest_length[k] as f32;
         let strain = ((b - a).length() - rest) / rest;
         let colour = palette::strain(strain, full);

@@ -87,7 +87,7 @@ pub fn stable_time_step(
     let mut stiffness_bound = vec![0.0; n];
     let mut damping_bound = vec![0.0; n];
     for s in 0..springs.len() {
-        let (i, j) = (springs.first[s] as usize, springs.second[s] as usize);
+        let (i, j) = (springs.first()[s] as usize, springs.second()[s] as usize);
         let (wi, wj) = (particles.inverse_mass[i], particles.inverse_mass[j]);
         let coupling = (wi * wj).sqrt();
         for (me, w) in [(i, wi), (j, wj)] {

@@ -52,8 +52,8 @@ fn settled_stretches(one_sided: bool) -> Vec<Real> {
     (0..world.springs.len())
         .map(|s| {
             let (i, j) = (
-                world.springs.first[s] as usize,
-                world.springs.second[s] as usize,
+                world.springs.first()[s] as usize,
+                world.springs.second()[s] as usize,
             );
             x[i].distance(x[j]) - world.springs.rest_length[s]
         })

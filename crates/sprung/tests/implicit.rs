@@ -119,8 +119,8 @@ fn projective_holds_the_swinging_stiff_cloth_for_a_minute_below_its_starting_ene
     let stretch = (0..world.springs.len())
         .map(|s| {
             let (i, j) = (
-                world.springs.first[s] as usize,
-                world.springs.second[s] as usize,
+                world.springs.first()[s] as usize,
+                world.springs.second()[s] as usize,
             );
             world.particles.position[i].distance(world.particles.position[j])
                 / world.springs.rest_length[s]
@@ -349,8 +349,8 @@ fn a_stiff_lattice_lands_and_rests_on_a_floor_at_the_frame_step() {
         }
         for s in 0..world.springs.len() {
             let (i, j) = (
-                world.springs.first[s] as usize,
-                world.springs.second[s] as usize,
+                world.springs.first()[s] as usize,
+                world.springs.second()[s] as usize,
             );
             let length = world.particles.position[i].distance(world.particles.position[j]);
             let strain = length / world.springs.rest_length[s] - 1.0;

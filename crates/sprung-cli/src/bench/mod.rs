@@ -1,114 +1,346 @@
-//! `sprung bench`: spring updates per second for one step of a square cloth
-//! (structural, shear and bending springs) under each integrator, steps per
-//! second of a gas-filled ball at 642 and 10 242 vertices, and the stiff
-//! cloth under the implicit solvers ([`stiff_cloth`]), and contact between
-//! bodies ([`contacts`]).
+//! `sprung bench`: the performance suite. Every case (cloths of growing
+//! size, one cloth under every integrator, gas balls, the stiff cloth under
+//! the implicit solvers, contact scenes; [`cases`]) is built and timed on
+//! one thread and on all of them, in one process; per case the table gives
+//! the time per step, spring and particle updates per second, the speed-up
+//! of the threads, the simulated seconds per wall-clock second, the peak
+//! heap and the bytes a step allocates ([`memory`]). `--compare` times the
+//! textbook loop on the cloths ([`mod@reference`]); `--demos` the real-time
+//! factor of every demo ([`demos`]); the header gives the memory bandwidth
+//! of a STREAM triad ([`stream`]), the bound of the streaming loops.
 
+mod cases;
 mod contacts;
+mod demos;
+pub mod memory;
+mod reference;
 mod stiff_cloth;
+mod stream;
 
+use std::fmt::Write as _;
+use std::path::PathBuf;
 use std::time::Instant;
 
-use sprung::build::{self, ClothSprings, SurfaceSprings};
-use sprung::{Gas, IntegratorKind, Vec3, World};
+use sprung::{parallel, IntegratorKind, Real};
+use sprung_io::export::AtomicFile;
 
 use crate::run::CliError;
+use cases::{Case, Group};
 
-/// Time `steps` steps of a `size × size` cloth with every integrator and
-/// print a table.
-pub fn run(size: usize, steps: u32) -> Result<(), CliError> {
-    if steps == 0 {
-        return Err(CliError::Input("--steps must be at least 1".into()));
-    }
-    let cloth = build::cloth(size, size, 1.0, 1.0, ClothSprings::default())
-        .map_err(|e| CliError::Input(format!("--size {size}: {e}")))?
-        .with_total_mass(1.0)
-        .with_stiffness(1000.0)
-        .with_damping(0.01)
-        .with_pinned(vec![(size - 1) * size, size * size - 1]);
-    let mut template = World::new(IntegratorKind::SymplecticEuler);
-    template
-        .add_body("cloth", cloth.clone())
-        .map_err(|e| CliError::Input(e.to_string()))?;
-    let dt = 0.5 * template.stable_time_step();
-    println!(
-        "cloth {size}×{size}: {} particles, {} springs, dt = {dt:.3e} s, {steps} steps per integrator, 1 thread",
-        template.particles.len(),
-        template.springs.len()
-    );
-    println!(
-        "{:<18} {:>10} {:>14} {:>22}",
-        "integrator", "evals/step", "steps/s", "spring updates/s"
-    );
-    for kind in IntegratorKind::ALL {
-        let mut world = World::new(kind);
-        world
-            .add_body("cloth", cloth.clone())
-            .map_err(|e| CliError::Input(e.to_string()))?;
-        // One warm-up step sizes the integrator's buffers.
-        let step = |world: &mut World| world.step(dt).map_err(|e| CliError::Input(e.to_string()));
-        step(&mut world)?;
-        let start = Instant::now();
-        for _ in 0..steps {
-            step(&mut world)?;
-        }
-        let seconds = start.elapsed().as_secs_f64();
-        let steps_per_second = f64::from(steps) / seconds;
-        let evaluations = kind.evaluations_per_step();
-        let updates = steps_per_second * f64::from(evaluations) * world.springs.len() as f64;
-        println!(
-            "{:<18} {:>10} {:>14.1} {:>22.3e}",
-            kind.name(),
-            evaluations,
-            steps_per_second,
-            updates
-        );
-    }
-    println!();
-    gas_balls(steps)?;
-    println!();
-    stiff_cloth::run()?;
-    println!();
-    contacts::run()
+/// Options of `sprung bench`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct BenchArgs {
+    /// Particles along each side of the cloth that every integrator steps.
+    #[arg(long, default_value_t = 128)]
+    size: usize,
+    /// Steps timed per case and thread count (at least; a case runs on
+    /// until --seconds have passed).
+    #[arg(long, default_value_t = 50)]
+    steps: u32,
+    /// Least wall-clock time per case and thread count (s).
+    #[arg(long, default_value_t = 0.5)]
+    seconds: f64,
+    /// Sizes of the cloths timed under symplectic Euler (particles along a
+    /// side); the largest is also timed under RK4.
+    #[arg(long, value_delimiter = ',', default_values_t = [64, 128, 256, 512])]
+    sizes: Vec<usize>,
+    /// Only these groups of cases.
+    #[arg(long, value_delimiter = ',', value_enum)]
+    only: Vec<Group>,
+    /// Also write the table to this CSV file.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// Also time a plain single-threaded loop in the textbook's style (an
+    /// array of particle structs, an array of springs, f64) on each cloth,
+    /// and print sprung's speed as a multiple of it.
+    #[arg(long)]
+    compare: bool,
+    /// Instead, time every demo's physics on all threads: its real-time
+    /// factor (simulated seconds per wall-clock second).
+    #[arg(long)]
+    demos: bool,
+    /// Small cases and short timings: checks that the bench runs, measures
+    /// nothing.
+    #[arg(long)]
+    quick: bool,
 }
 
-/// Steps per second of a gas-filled icosphere at 642 and 10 242 vertices
-/// (3 and 5 subdivisions), symplectic Euler: springs on every edge and
-/// across every pair of triangles, pressure from the exact volume.
-fn gas_balls(steps: u32) -> Result<(), CliError> {
-    println!(
-        "{:<30} {:>10} {:>10} {:>12} {:>20}",
-        "gas ball, symplectic Euler", "particles", "springs", "steps/s", "pressure faces/s"
-    );
-    for subdivisions in [3, 5] {
-        let mut ball = build::icosphere(1.0, subdivisions, SurfaceSprings::default())
-            .map_err(|e| CliError::Input(e.to_string()))?
-            .with_total_mass(1.0)
-            .with_stiffness(1000.0)
-            .with_damping(0.01);
-        ball.gas = Some(Gas::new(100.0, 0.0));
-        let mut world = World::new(IntegratorKind::SymplecticEuler);
-        world.set_gravity(Vec3::ZERO);
-        world
-            .add_body("ball", ball)
-            .map_err(|e| CliError::Input(e.to_string()))?;
-        let dt = 0.5 * world.stable_time_step();
-        let step = |world: &mut World| world.step(dt).map_err(|e| CliError::Input(e.to_string()));
-        step(&mut world)?;
-        let start = Instant::now();
-        for _ in 0..steps {
-            step(&mut world)?;
+/// One timed case on one number of threads.
+#[derive(Debug, Clone)]
+struct Row {
+    group: Group,
+    name: String,
+    integrator: IntegratorKind,
+    particles: usize,
+    springs: usize,
+    threads: usize,
+    dt: Real,
+    steps: u32,
+    seconds_per_step: f64,
+    /// Force evaluations per step, for the spring updates (`None` where
+    /// they vary: the implicit solvers and rk45).
+    evaluations: Option<u32>,
+    /// The most heap in use from the start of building the world to the
+    /// end of its steps (bytes).
+    peak_bytes: usize,
+    /// The most heap in use while it steps: the running world's footprint
+    /// (bytes).
+    stepping_bytes: usize,
+    /// Bytes allocated per timed step.
+    allocated_per_step: usize,
+    /// Seconds per step of the same case on one thread.
+    one_thread: f64,
+    /// Seconds per step of the textbook loop, under `--compare`.
+    reference: Option<f64>,
+}
+
+impl Row {
+    fn spring_updates(&self) -> Option<f64> {
+        self.evaluations
+            .map(|e| f64::from(e) * self.springs as f64 / self.seconds_per_step)
+    }
+
+    fn particle_updates(&self) -> f64 {
+        self.particles as f64 / self.seconds_per_step
+    }
+}
+
+/// Run the bench (or the demos' real-time factors) and print the table.
+pub fn run(args: &BenchArgs) -> Result<(), CliError> {
+    if args.steps == 0 {
+        return Err(CliError::Input("--steps must be at least 1".into()));
+    }
+    if !(args.seconds.is_finite() && args.seconds >= 0.0) {
+        return Err(CliError::Input(format!(
+            "--seconds {}: must be a finite, non-negative time",
+            args.seconds
+        )));
+    }
+    if let Some(&bad) = args.sizes.iter().chain([&args.size]).find(|&&n| n < 2) {
+        return Err(CliError::Input(format!(
+            "--size/--sizes {bad}: a cloth needs at least 2 particles a side"
+        )));
+    }
+    let all = parallel::threads();
+    let (steps, seconds) = if args.quick {
+        (2, 0.0)
+    } else {
+        (args.steps, args.seconds)
+    };
+    let threads_error = |e: parallel::ThreadsError| CliError::Input(e.to_string());
+    // One pool per thread count for the whole run: a pool started per case
+    // would count its threads' start and exit in the case's measurements.
+    let one_pool = parallel::Pool::new(1).map_err(threads_error)?;
+    let all_pool = parallel::Pool::new(all).map_err(threads_error)?;
+    println!("{}", machine(&one_pool, &all_pool, args.quick));
+    if args.demos {
+        return demos::run(steps, seconds.max(1.0));
+    }
+    let sizes = if args.quick {
+        vec![8, 16]
+    } else {
+        args.sizes.clone()
+    };
+    let size = if args.quick { 8 } else { args.size };
+    let mut rows = Vec::new();
+    for case in cases::cases(&args.only, &sizes, size, args.quick) {
+        let one = time(&case, &one_pool, steps, seconds)?;
+        let one_thread = one.seconds_per_step;
+        let reference = (args.compare && case.compare)
+            .then(|| {
+                let world = (case.build)()?;
+                let dt = cases::step_of(&case, &world);
+                Ok::<_, CliError>(reference::seconds_per_step(&world, dt, steps, seconds))
+            })
+            .transpose()?;
+        let mut timed = vec![one];
+        if all > 1 {
+            timed.push(time(&case, &all_pool, steps, seconds)?);
         }
-        let steps_per_second = f64::from(steps) / start.elapsed().as_secs_f64();
-        let faces = world.bodies[0].faces.len() as f64;
-        println!(
-            "{:<30} {:>10} {:>10} {:>12.1} {:>20.3e}",
-            format!("icosphere, {subdivisions} subdivisions"),
-            world.particles.len(),
-            world.springs.len(),
-            steps_per_second,
-            steps_per_second * faces
-        );
+        for mut row in timed {
+            row.one_thread = one_thread;
+            row.reference = reference;
+            print_row(&row, rows.is_empty());
+            rows.push(row);
+        }
+    }
+    if let Some(path) = &args.csv {
+        AtomicFile::write(path, csv(&rows).as_bytes())
+            .map_err(|e| CliError::Io(format!("cannot write {}: {e}", path.display())))?;
+        println!("table written to {}", path.display());
     }
     Ok(())
+}
+
+/// The machine, the threads and the memory bandwidth, for the header.
+fn machine(one_pool: &parallel::Pool, all_pool: &parallel::Pool, quick: bool) -> String {
+    let threads = all_pool.threads();
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|text| {
+            text.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|name| name.trim().to_string())
+        })
+        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+    let mut header = format!(
+        "machine: {cpu}, {threads} thread{} (sprung --threads N or SPRUNG_THREADS to change)",
+        if threads == 1 { "" } else { "s" }
+    );
+    if !quick {
+        let one = stream::triad_bytes_per_second(one_pool);
+        let every = stream::triad_bytes_per_second(all_pool);
+        let _ = write!(
+            header,
+            "\nmemory bandwidth (STREAM triad, 3 × 64 MiB): {:.1} GB/s on 1 thread, {:.1} GB/s on {threads}",
+            one / 1e9,
+            every / 1e9
+        );
+    }
+    header
+}
+
+/// Build `case` and time it on `pool`'s threads: a warm-up step or two
+/// (sizing the buffers, factoring the projective matrix), then at least
+/// `steps` steps and `seconds` of wall clock. A case that cannot run that
+/// long (explicit Euler gains energy until it blows up) starts again from
+/// its first state, untimed.
+fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<Row, CliError> {
+    let threads = pool.threads();
+    pool.install(|| -> Result<Row, CliError> {
+        let start_mark = memory::mark();
+        let (mut world, dt) = warmed_up(case)?;
+        let built_peak = start_mark.peak();
+        let stepping = memory::mark();
+        let in_use = start_mark.in_use_since();
+        let (mut elapsed, mut taken, mut allocated) = (0.0, 0u32, 0);
+        while taken < steps || elapsed < seconds {
+            let before = memory::allocated();
+            let start = Instant::now();
+            let result = world.step(dt);
+            elapsed += start.elapsed().as_secs_f64();
+            allocated += memory::allocated() - before;
+            match result {
+                Ok(_) => taken += 1,
+                Err(e) if taken == 0 => {
+                    return Err(CliError::Input(format!("bench, {}: {e}", case.name)))
+                }
+                Err(_) => (world, _) = warmed_up(case)?,
+            }
+        }
+        let kind = case.integrator;
+        Ok(Row {
+            group: case.group,
+            name: case.name.clone(),
+            integrator: kind,
+            particles: world.particles.len(),
+            springs: world.springs.len(),
+            threads,
+            dt,
+            steps: taken,
+            seconds_per_step: elapsed / f64::from(taken),
+            evaluations: (!kind.is_implicit() && kind != IntegratorKind::Rk45)
+                .then(|| kind.evaluations_per_step()),
+            peak_bytes: built_peak.max(start_mark.peak()),
+            stepping_bytes: in_use + stepping.peak(),
+            allocated_per_step: allocated / taken as usize,
+            one_thread: 0.0,
+            reference: None,
+        })
+    })
+}
+
+/// `case`'s world after two untimed steps, and its step (s).
+fn warmed_up(case: &Case) -> Result<(sprung::World, Real), CliError> {
+    let mut world = (case.build)()?;
+    let dt = cases::step_of(case, &world);
+    for _ in 0..2 {
+        world
+            .step(dt)
+            .map_err(|e| CliError::Input(format!("bench, {}: {e}", case.name)))?;
+    }
+    Ok((world, dt))
+}
+
+/// `value` in engineering notation, or a dash for none.
+fn rate(value: Option<f64>) -> String {
+    value.map_or_else(|| "–".into(), |v| format!("{v:.3e}"))
+}
+
+fn print_row(row: &Row, header: bool) {
+    if header {
+        println!(
+            "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10} {:>12} {:>12} {:>7} {:>9} {:>8} {:>8} {:>8} {:>9}",
+            "case",
+            "integrator",
+            "particles",
+            "springs",
+            "thr",
+            "ms/step",
+            "springs/s",
+            "particles/s",
+            "speedup",
+            "sim s/s",
+            "peak MB",
+            "run MB",
+            "alloc/st",
+            "×textbook"
+        );
+    }
+    let textbook = row.reference.map_or_else(
+        || "–".into(),
+        |r| format!("{:.2}", r / row.seconds_per_step),
+    );
+    println!(
+        "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10.4} {:>12} {:>12.3e} {:>7.2} {:>9.3} {:>8.1} {:>8.1} {:>8} {:>9}",
+        row.name,
+        row.integrator.name(),
+        row.particles,
+        row.springs,
+        row.threads,
+        row.seconds_per_step * 1e3,
+        rate(row.spring_updates()),
+        row.particle_updates(),
+        row.one_thread / row.seconds_per_step,
+        row.dt / row.seconds_per_step,
+        row.peak_bytes as f64 / 1e6,
+        row.stepping_bytes as f64 / 1e6,
+        row.allocated_per_step,
+        textbook
+    );
+}
+
+/// The table as CSV, one row per case and thread count.
+fn csv(rows: &[Row]) -> String {
+    let mut text = String::from(
+        "group,case,integrator,particles,springs,threads,dt,steps,ms_per_step,\
+         spring_updates_per_s,particle_updates_per_s,speedup,simulated_s_per_s,\
+         peak_bytes,stepping_bytes,bytes_allocated_per_step,textbook_ms_per_step\n",
+    );
+    for row in rows {
+        let optional = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:e}"));
+        let _ = writeln!(
+            text,
+            "{},{},{},{},{},{},{:e},{},{:e},{},{:e},{:e},{:e},{},{},{},{}",
+            row.group.name(),
+            row.name,
+            row.integrator.name(),
+            row.particles,
+            row.springs,
+            row.threads,
+            row.dt,
+            row.steps,
+            row.seconds_per_step * 1e3,
+            optional(row.spring_updates()),
+            row.particle_updates(),
+            row.one_thread / row.seconds_per_step,
+            row.dt / row.seconds_per_step,
+            row.peak_bytes,
+            row.stepping_bytes,
+            row.allocated_per_step,
+            optional(row.reference.map(|r| r * 1e3)),
+        );
+    }
+    text
 }

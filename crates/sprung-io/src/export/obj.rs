@@ -24,7 +24,12 @@ pub(crate) fn render(world: &World) -> String {
         let _ = writeln!(out, "o {}", body.name);
         if body.faces.is_empty() {
             for s in body.springs.clone() {
-                let _ = writeln!(out, "l {} {}", springs.first[s] + 1, springs.second[s] + 1);
+                let _ = writeln!(
+                    out,
+                    "l {} {}",
+                    springs.first()[s] + 1,
+                    springs.second()[s] + 1
+                );
             }
         } else {
             for [a, b, c] in &body.faces {

@@ -40,7 +40,7 @@ pub(crate) fn render(world: &World) -> String {
     if !springs.is_empty() {
         let _ = writeln!(out, "LINES {} {}", springs.len(), 3 * springs.len());
         for s in 0..springs.len() {
-            let _ = writeln!(out, "2 {} {}", springs.first[s], springs.second[s]);
+            let _ = writeln!(out, "2 {} {}", springs.first()[s], springs.second()[s]);
         }
     }
     if !faces.is_empty() {
@@ -81,7 +81,8 @@ fn write_cell_data(out: &mut String, world: &World, faces: usize) {
     }
     let _ = writeln!(out, "SCALARS strain double 1\nLOOKUP_TABLE default");
     for s in 0..springs.len() {
-        let d = position[springs.first[s] as usize].distance(position[springs.second[s] as usize]);
+        let d =
+            position[springs.first()[s] as usize].distance(position[springs.second()[s] as usize]);
         let _ = writeln!(
             out,
             "{}",
@@ -113,7 +114,7 @@ fn outline_springs(world: &World) -> Vec<bool> {
             .map(|&[a, b]| (a.min(b), a.max(b)))
             .collect();
         for s in body.springs.clone() {
-            let (a, b) = (springs.first[s], springs.second[s]);
+            let (a, b) = (springs.first()[s], springs.second()[s]);
             flags[s] = segments.contains(&(a.min(b), a.max(b)));
         }
     }

@@ -49,7 +49,7 @@ impl Model {
         }
         Model {
             springs: (0..springs.len())
-                .map(|s| [springs.first[s], springs.second[s]])
+                .map(|s| [springs.first()[s], springs.second()[s]])
                 .collect(),
             rest_length: springs.rest_length.clone(),
             faces: world

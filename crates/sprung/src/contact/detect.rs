@@ -276,8 +276,9 @@ type Elements<const N: usize> = fn(&Scratch) -> &[([u32; N], u32)];
 pub(super) struct Links {
     start: Vec<u32>,
     list: Vec<u32>,
-    /// What they were built from: springs, particles, the bodies' flags.
-    built_for: Option<(usize, usize, Vec<BodyContact>)>,
+    /// What they were built from: the springs' topology, the particles,
+    /// the bodies' flags.
+    built_for: Option<(u64, usize, Vec<BodyContact>)>,
 }
 
 impl Links {
@@ -285,7 +286,7 @@ impl Links {
     /// are what they were built from.
     fn build(&mut self, bodies: &[Body], springs: &Springs, particles: usize) {
         let key = (
-            springs.len(),
+            springs.topology(),
             particles,
             bodies.iter().map(|b| b.contact).collect::<Vec<_>>(),
         );
@@ -307,7 +308,7 @@ impl Links {
         let mut kept = Vec::new();
         for body in &wanted {
             for s in body.springs.clone() {
-                let (i, j) = (springs.first[s], springs.second[s]);
+                let (i, j) = (springs.first()[s], springs.second()[s]);
                 if selfish(i, body) && selfish(j, body) {
                     count[i as usize + 1] += 1;
                     count[j as usize + 1] += 1;
@@ -451,8 +452,8 @@ impl Contacts {
     ///
     /// Pairs are searched within the thickness plus a margin: twice the
     /// thickness plus the distance two particles at the fastest speed now
-    /// close in the step (at most [`MAX_CLOSING`] thicknesses: faster
-    /// particles may pass through each other). They are kept for the following steps for as long
+    /// close in the step (at most four thicknesses: faster particles may
+    /// pass through each other). They are kept for the following steps for as long
     /// as that margin still covers the motion (twice the largest distance a
     /// particle has moved since, plus the step's closing distance), so a
     /// slow scene searches every few steps, never missing a pair.

@@ -27,7 +27,7 @@ use rayon::prelude::*;
 
 use crate::Real;
 
-pub use schedule::{Block, Elements, Schedule, ScheduleCache, Writer};
+pub use schedule::{Block, Elements, Schedule, ScheduleCache, Writer, COLOUR_BLOCK, MIN_BLOCKS};
 
 /// The number of elements a thread takes at a time, and the chunk of the
 /// fixed-order sums.
@@ -93,6 +93,55 @@ pub fn configure_from_env() {
     ONCE.call_once(|| {
         let _ = configure(None);
     });
+}
+
+/// A pool of threads of its own, to run the engine's loops on a chosen
+/// number of threads in one process (the bench compares 1 and all). Kept
+/// for as long as it is used: a pool's threads exit when it is dropped,
+/// and building one per call would count their start and exit in every
+/// measurement.
+#[derive(Debug)]
+pub struct Pool(rayon::ThreadPool);
+
+impl Pool {
+    /// Start a pool of `threads` threads.
+    pub fn new(threads: usize) -> Result<Self, ThreadsError> {
+        if threads == 0 {
+            return Err(ThreadsError::Zero);
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map(Pool)
+            .map_err(|e| ThreadsError::Start {
+                threads,
+                reason: e.to_string(),
+            })
+    }
+
+    /// The pool's number of threads.
+    pub fn threads(&self) -> usize {
+        self.0.current_num_threads()
+    }
+
+    /// Run `f` with the engine's loops inside it on this pool.
+    pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        self.0.install(f)
+    }
+}
+
+/// Run `f` on a pool of its own of `threads` threads, started for the
+/// call and stopped after it (see [`Pool`] to keep one).
+pub fn with_threads<R: Send>(
+    threads: usize,
+    f: impl FnOnce() -> R + Send,
+) -> Result<R, ThreadsError> {
+    Ok(Pool::new(threads)?.install(f))
+}
+
+/// The threads the engine's loops run on here (the current pool's).
+pub fn threads() -> usize {
+    rayon::current_num_threads()
 }
 
 /// `Σ f(piece)` over pieces of `0..len` of at most [`CHUNK`] indices, cut

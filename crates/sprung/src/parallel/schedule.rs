@@ -24,10 +24,13 @@ use super::CHUNK;
 ///   larger than the widest span of particle indices of an element, so its
 ///   writes stay in `[b B, (b + 2) B)`; the even blocks form one phase, the
 ///   odd ones the next. A thread streams through neighbouring particles.
-/// - **by colour**, when that gives fewer than [`MIN_BLOCKS`] blocks (a mesh
-///   whose vertices are numbered in no local order): each element takes the
+/// - **by colour**, when that gives fewer than [`MIN_BLOCKS`] blocks over
+///   more than two chunks of particles (a mesh whose vertices are numbered
+///   in no local order; a smaller scene keeps its one or two blocks, run
+///   in order on one thread, faster than colours): each element takes the
 ///   first of 64 colours that none of its particles has yet (greedy
-///   colouring), a colour is a phase, cut into blocks of [`CHUNK`]
+///   colouring), a colour is a phase, cut into blocks of
+///   [`COLOUR_BLOCK`]
 ///   elements; elements left without a colour make a last phase of one
 ///   block.
 ///
@@ -46,6 +49,11 @@ pub struct Schedule<const W: usize> {
     /// Each phase's blocks (a range of `blocks`).
     phases: Vec<Range<usize>>,
 }
+
+/// Elements per block of a colour: a colour of a mesh of some ten
+/// thousand vertices holds a few thousand elements, cut small enough to
+/// share among threads.
+pub const COLOUR_BLOCK: usize = 1024;
 
 /// The fewest blocks cut by neighbourhood for the schedule to use them
 /// rather than colours.
@@ -75,7 +83,7 @@ impl<const W: usize> Schedule<W> {
             .unwrap_or(0);
         let block = (span + 1).max(CHUNK);
         let blocks = particles.div_ceil(block).max(1);
-        if members.len() <= CHUNK || blocks >= MIN_BLOCKS {
+        if members.len() <= CHUNK || blocks >= MIN_BLOCKS || particles <= 2 * CHUNK {
             let block_of = |m: &[u32; W]| (lowest(m) / block).min(blocks - 1);
             let keys: Vec<usize> = members.iter().map(block_of).collect();
             let even = (0..blocks).step_by(2).chain((1..blocks).step_by(2));
@@ -104,7 +112,8 @@ impl<const W: usize> Schedule<W> {
             .collect();
         let mut count = [0usize; LEFT + 1];
         colour.iter().for_each(|&c| count[c] += 1);
-        // Blocks: each colour cut into CHUNK elements, the leftovers one.
+        // Blocks: each colour cut into COLOUR_BLOCK elements, the leftovers
+        // one.
         let mut blocks = 0;
         let mut phases = Vec::new();
         let mut first_block_of = [0usize; LEFT + 1];
@@ -113,7 +122,11 @@ impl<const W: usize> Schedule<W> {
                 continue;
             }
             first_block_of[c] = blocks;
-            let pieces = if c == LEFT { 1 } else { n.div_ceil(CHUNK) };
+            let pieces = if c == LEFT {
+                1
+            } else {
+                n.div_ceil(COLOUR_BLOCK)
+            };
             phases.push(blocks..blocks + pieces);
             blocks += pieces;
         }
@@ -121,7 +134,7 @@ impl<const W: usize> Schedule<W> {
         let slot: Vec<usize> = colour
             .iter()
             .map(|&c| {
-                let piece = if c == LEFT { 0 } else { seen[c] / CHUNK };
+                let piece = if c == LEFT { 0 } else { seen[c] / COLOUR_BLOCK };
                 seen[c] += 1;
                 first_block_of[c] + piece
             })

@@ -37,8 +37,8 @@ use crate::{Real, Vec3};
 /// The springs are added in blocks of neighbouring particles
 /// ([`Schedule`]), blocks that share no particle in parallel: every particle
 /// receives its springs' forces in the same order whatever the number of
-/// threads. The schedule is made again whenever the springs' particles
-/// differ from those it was made for (a spring added, removed or moved).
+/// threads. The schedule is made again whenever the springs' endpoints
+/// change (a spring added or moved: a new [`Springs::topology`]).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SpringForce {
     /// Per spring: the unit axis `t` and the clamped transverse stiffness
@@ -46,9 +46,8 @@ pub struct SpringForce {
     linearized: Vec<SpringJacobian>,
     /// The springs in blocks, with their particles.
     schedule: Schedule<2>,
-    /// The springs' particles (`first`, then `second`) the schedule was
-    /// made for.
-    scheduled: (Vec<u32>, Vec<u32>),
+    /// The endpoints the schedule was made for ([`Springs::topology`]).
+    topology: u64,
 }
 
 /// One spring's Jacobian data at a state.
@@ -84,13 +83,13 @@ impl SpringForce {
         SpringForce::default()
     }
 
-    /// Schedule the springs, unless the schedule is for these very springs
-    /// (a comparison of their particle lists: a small part of a force pass).
+    /// Schedule the springs, unless the schedule is for these very
+    /// endpoints (the same [`Springs::topology`]).
     fn colour(&mut self, springs: &Springs, particles: usize) {
-        if self.scheduled.0 != springs.first || self.scheduled.1 != springs.second {
-            self.scheduled = (springs.first.clone(), springs.second.clone());
-            let members = springs.first.iter().zip(&springs.second);
+        if self.topology != springs.topology() || self.schedule.len() != springs.len() {
+            let members = springs.first().iter().zip(springs.second());
             self.schedule = Schedule::new(members.map(|(&i, &j)| [i, j]), particles);
+            self.topology = springs.topology();
         }
     }
 }
@@ -123,7 +122,7 @@ impl Force for SpringForce {
         parallel::for_each_span(&mut self.linearized[..], |start, chunk| {
             for (offset, jacobian) in chunk.iter_mut().enumerate() {
                 let s = start + offset;
-                let delta = x[springs.first[s] as usize] - x[springs.second[s] as usize];
+                let delta = x[springs.first()[s] as usize] - x[springs.second()[s] as usize];
                 let length = delta.length();
                 *jacobian = if length == 0.0 {
                     SpringJacobian::default()
@@ -184,8 +183,8 @@ pub fn spring_energy(springs: &Springs, position: &[Vec3]) -> Real {
     parallel::sum(springs.len(), |range| {
         range
             .map(|s| {
-                let d = position[springs.first[s] as usize]
-                    .distance(position[springs.second[s] as usize]);
+                let d = position[springs.first()[s] as usize]
+                    .distance(position[springs.second()[s] as usize]);
                 0.5 * springs.stiffness[s] * (d - springs.rest_length[s]).powi(2)
             })
             .sum()

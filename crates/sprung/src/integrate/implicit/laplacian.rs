@@ -34,8 +34,8 @@ const PINNED: u32 = u32::MAX;
 #[derive(Debug, Clone, PartialEq)]
 struct FactorKey {
     dt: Real,
-    first: Vec<u32>,
-    second: Vec<u32>,
+    /// The springs' endpoints ([`Springs::topology`]).
+    topology: u64,
     stiffness: Vec<Real>,
     mass: Vec<Real>,
     inverse_mass: Vec<Real>,
@@ -44,8 +44,7 @@ struct FactorKey {
 impl FactorKey {
     fn matches(&self, dt: Real, springs: &Springs, mass: &[Real], inverse_mass: &[Real]) -> bool {
         self.dt == dt
-            && self.first == springs.first
-            && self.second == springs.second
+            && self.topology == springs.topology()
             && self.stiffness == springs.stiffness
             && self.mass == mass
             && self.inverse_mass == inverse_mass
@@ -53,8 +52,7 @@ impl FactorKey {
 
     /// Same sparsity pattern and pinned set: only the numbers differ.
     fn same_pattern(&self, springs: &Springs, inverse_mass: &[Real]) -> bool {
-        self.first == springs.first
-            && self.second == springs.second
+        self.topology == springs.topology()
             && self.inverse_mass.len() == inverse_mass.len()
             && self
                 .inverse_mass
@@ -108,8 +106,8 @@ fn global_matrix(
     for s in 0..springs.len() {
         let k = h2 * springs.stiffness[s];
         let (a, b) = (
-            unknown[springs.first[s] as usize],
-            unknown[springs.second[s] as usize],
+            unknown[springs.first()[s] as usize],
+            unknown[springs.second()[s] as usize],
         );
         for row in [a, b] {
             if row != PINNED {
@@ -142,8 +140,7 @@ impl Factor {
     ) -> Result<Factor, SolverError> {
         let key = FactorKey {
             dt,
-            first: springs.first.clone(),
-            second: springs.second.clone(),
+            topology: springs.topology(),
             stiffness: springs.stiffness.clone(),
             mass: mass.to_vec(),
             inverse_mass: inverse_mass.to_vec(),
@@ -193,7 +190,7 @@ impl Factor {
             MemBuffer::try_new(symbolic.solve_in_place_scratch::<Real>(3, Par::Seq))
                 .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
         let right_side = Mat::zeros(particle.len(), 3);
-        let members = springs.first.iter().zip(&springs.second);
+        let members = springs.first().iter().zip(springs.second());
         let springs = Schedule::new(members.map(|(&i, &j)| [i, j]), mass.len());
         Ok(Factor {
             springs,

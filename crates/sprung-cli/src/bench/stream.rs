@@ -1,0 +1,36 @@
+//! The memory bandwidth, by a STREAM-style triad `a = b + s c` over arrays
+//! far larger than the caches: the bound of a loop that streams its data
+//! (bytes per spring update times spring updates per second cannot exceed
+//! it).
+
+use std::time::Instant;
+
+use sprung::parallel;
+
+/// Entries per array: 8 Mi f64 (64 MiB), twice the largest caches of the
+/// machines we run on.
+const LENGTH: usize = 8 << 20;
+
+/// Bytes per second the triad moves on `pool`'s threads (24 bytes an
+/// entry: two read, one written; the best of five passes).
+pub fn triad_bytes_per_second(pool: &parallel::Pool) -> f64 {
+    let b = vec![1.0f64; LENGTH];
+    let c = vec![2.0f64; LENGTH];
+    let mut a = vec![0.0f64; LENGTH];
+    let scale = 3.0;
+    let best = pool.install(|| {
+        (0..5)
+            .map(|_| {
+                let start = Instant::now();
+                parallel::for_each_span(&mut a[..], |first, a| {
+                    for (k, a) in a.iter_mut().enumerate() {
+                        *a = b[first + k] + scale * c[first + k];
+                    }
+                });
+                start.elapsed().as_secs_f64()
+            })
+            .fold(f64::INFINITY, f64::min)
+    });
+    std::hint::black_box(&a);
+    (24 * LENGTH) as f64 / best
+}
