@@ -285,15 +285,22 @@ impl Links {
     /// Rebuild from the springs of the self-colliding bodies, unless those
     /// are what they were built from.
     fn build(&mut self, bodies: &[Body], springs: &Springs, particles: usize) {
-        let key = (
-            springs.topology(),
-            particles,
-            bodies.iter().map(|b| b.contact).collect::<Vec<_>>(),
-        );
-        if self.built_for.as_ref() == Some(&key) {
+        let unchanged = self
+            .built_for
+            .as_ref()
+            .is_some_and(|(topology, count, flags)| {
+                *topology == springs.topology()
+                    && *count == particles
+                    && flags.iter().eq(bodies.iter().map(|b| &b.contact))
+            });
+        if unchanged {
             return;
         }
-        self.built_for = Some(key);
+        self.built_for = Some((
+            springs.topology(),
+            particles,
+            bodies.iter().map(|b| b.contact).collect(),
+        ));
         self.start.clear();
         self.list.clear();
         let selfish = |i: u32, b: &Body| b.particles.contains(&(i as usize));

@@ -71,7 +71,8 @@ pub(super) struct Factor {
     particle: Vec<u32>,
     symbolic: SymbolicCholesky<u32>,
     values: Vec<Real>,
-    solve_scratch: MemBuffer,
+    /// Scratch of the back-substitutions, one per axis.
+    solve_scratch: [MemBuffer; 3],
     /// The right side of a solve, one column per axis.
     right_side: Mat<Real>,
     /// The springs in blocks, for the Laplacian's products.
@@ -186,9 +187,11 @@ impl Factor {
                 Default::default(),
             )
             .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
-        let solve_scratch =
-            MemBuffer::try_new(symbolic.solve_in_place_scratch::<Real>(3, Par::Seq))
-                .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
+        let scratch = || {
+            MemBuffer::try_new(symbolic.solve_in_place_scratch::<Real>(1, Par::Seq))
+                .map_err(|e| SolverError::Factorization(format!("{e:?}")))
+        };
+        let solve_scratch = [scratch()?, scratch()?, scratch()?];
         let right_side = Mat::zeros(particle.len(), 3);
         let members = springs.first().iter().zip(springs.second());
         let springs = Schedule::new(members.map(|(&i, &j)| [i, j]), mass.len());
@@ -238,11 +241,19 @@ impl Factor {
                 self.right_side[(row, axis)] = value;
             }
         }
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
-            Conj::No,
-            self.right_side.as_mut(),
-            Par::Seq,
-            MemStack::new(&mut self.solve_scratch),
+        // The three axes are three independent back-substitutions with the
+        // one factor, each serial: run side by side on the pool, the same
+        // arithmetic whatever the number of threads.
+        let factor = LltRef::new(&self.symbolic, &self.values);
+        let solve = |column: faer::MatMut<'_, Real>, scratch: &mut MemBuffer| {
+            factor.solve_in_place_with_conj(Conj::No, column, Par::Seq, MemStack::new(scratch));
+        };
+        let (x, rest) = self.right_side.as_mut().split_at_col_mut(1);
+        let (y, z_axis) = rest.split_at_col_mut(1);
+        let [sx, sy, sz] = &mut self.solve_scratch;
+        rayon::join(
+            || solve(x, sx),
+            || rayon::join(|| solve(y, sy), || solve(z_axis, sz)),
         );
         z.fill(Vec3::ZERO);
         for (row, &i) in self.particle.iter().enumerate() {
