@@ -4,6 +4,7 @@
 
 use std::collections::HashMap;
 use std::ops::Range;
+use std::sync::Arc;
 
 use crate::error::BuildError;
 use crate::gas::Gas;
@@ -42,13 +43,105 @@ impl SpringData {
     }
 }
 
+/// A rigid rod (distance constraint) of a [`BodyData`], with particle
+/// indices local to the body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RodData {
+    /// First particle index.
+    pub first: usize,
+    /// Second particle index.
+    pub second: usize,
+    /// Length (m); `None` means the distance at creation.
+    pub length: Option<Real>,
+}
+
+/// How a muscle's rest length changes in time: the factor `s(t)` of
+/// `L(t) = L0 s(t)`, with `t` the simulated time (s).
+#[derive(Clone)]
+pub enum MuscleDrive {
+    /// `s(t) = 1 + amplitude sin(2π t / period + phase)`.
+    Sine {
+        /// Relative amplitude `a` (dimensionless, `|a| < 1`).
+        amplitude: Real,
+        /// Period `T` (s), positive.
+        period: Real,
+        /// Phase `φ` (rad).
+        phase: Real,
+    },
+    /// Any function of time (s) giving a positive factor.
+    Function(Arc<dyn Fn(Real) -> Real + Send + Sync>),
+}
+
+impl MuscleDrive {
+    /// The factor `s(t)` at time `time` (s).
+    pub fn factor(&self, time: Real) -> Real {
+        match self {
+            MuscleDrive::Sine {
+                amplitude,
+                period,
+                phase,
+            } => 1.0 + amplitude * (std::f64::consts::TAU * time / period + phase).sin(),
+            MuscleDrive::Function(f) => f(time),
+        }
+    }
+}
+
+impl std::fmt::Debug for MuscleDrive {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MuscleDrive::Sine {
+                amplitude,
+                period,
+                phase,
+            } => f
+                .debug_struct("Sine")
+                .field("amplitude", amplitude)
+                .field("period", period)
+                .field("phase", phase)
+                .finish(),
+            MuscleDrive::Function(_) => f.write_str("Function(..)"),
+        }
+    }
+}
+
+impl PartialEq for MuscleDrive {
+    /// Sines with equal parameters, or the same function.
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (
+                MuscleDrive::Sine {
+                    amplitude: a,
+                    period: p,
+                    phase: f,
+                },
+                MuscleDrive::Sine {
+                    amplitude: b,
+                    period: q,
+                    phase: g,
+                },
+            ) => a == b && p == q && f == g,
+            (MuscleDrive::Function(a), MuscleDrive::Function(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        }
+    }
+}
+
+/// A muscle of a [`BodyData`]: a spring whose rest length changes in time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MuscleData {
+    /// Index of the spring in [`BodyData::springs`].
+    pub spring: usize,
+    /// How its rest length `L0 s(t)` changes ([`MuscleDrive`]).
+    pub drive: MuscleDrive,
+}
+
 /// A body described particle by particle, before it joins a world.
 ///
 /// Builders ([`crate::build`]) return one; scene files fill one in. Nothing
 /// is trusted: [`BodyData::validate`] (called by `World::add_body`) refuses
 /// bad masses, indices, duplicate or zero-length springs with a message
 /// naming the field.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct BodyData {
     /// Particle positions (m).
     pub position: Vec<Vec3>,
@@ -70,6 +163,36 @@ pub struct BodyData {
     pub gas: Option<Gas>,
     /// How the body takes part in contacts between bodies.
     pub contact: BodyContact,
+    /// Rigid rods between particles of this body (distance constraints).
+    pub rods: Vec<RodData>,
+    /// Springs of this body whose rest lengths change in time.
+    pub muscles: Vec<MuscleData>,
+    /// The body keeps every pairwise distance (a rigid body; shape
+    /// matching in the constraint stage). Default false.
+    pub rigid: bool,
+    /// The body takes part in mutual gravitation when the world has a
+    /// [`crate::forces::Gravitation`] force. Default true.
+    pub gravitating: bool,
+}
+
+impl Default for BodyData {
+    fn default() -> Self {
+        BodyData {
+            position: Vec::new(),
+            velocity: Vec::new(),
+            mass: Vec::new(),
+            pinned: Vec::new(),
+            springs: Vec::new(),
+            faces: Vec::new(),
+            segments: Vec::new(),
+            gas: None,
+            contact: BodyContact::default(),
+            rods: Vec::new(),
+            muscles: Vec::new(),
+            rigid: false,
+            gravitating: true,
+        }
+    }
 }
 
 /// How a body takes part in contacts between bodies (per-body keys
@@ -174,6 +297,11 @@ impl BodyData {
                 *length *= scale;
             }
         }
+        for r in &mut self.rods {
+            if let Some(length) = r.length.as_mut() {
+                *length *= scale;
+            }
+        }
         self
     }
 
@@ -189,6 +317,14 @@ impl BodyData {
         self.validate_faces(count)?;
         self.validate_segments(count)?;
         self.validate_gas()?;
+        self.validate_rods(count)?;
+        self.validate_muscles()?;
+        if self.rigid && count < 2 {
+            return Err(BuildError::RigidTooSmall);
+        }
+        if self.rigid && !self.pinned.is_empty() {
+            return Err(BuildError::RigidPinned);
+        }
         if self.contact.self_collision && self.faces.is_empty() && self.segments.is_empty() {
             return Err(BuildError::SelfCollisionWithoutSurface);
         }
@@ -354,6 +490,70 @@ impl BodyData {
         Ok(())
     }
 
+    fn validate_rods(&self, count: usize) -> Result<(), BuildError> {
+        for (rod, r) in self.rods.iter().enumerate() {
+            if let Some(bad) = [r.first, r.second].into_iter().find(|&i| i >= count) {
+                return Err(BuildError::RodIndexOutOfRange {
+                    rod,
+                    bad,
+                    particles: count,
+                });
+            }
+            let length = self.rod_length(r);
+            if r.first == r.second || !(length.is_finite() && length > 0.0) {
+                return Err(BuildError::BadRodLength { rod, length });
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_muscles(&self) -> Result<(), BuildError> {
+        for (muscle, m) in self.muscles.iter().enumerate() {
+            if m.spring >= self.springs.len() {
+                return Err(BuildError::MuscleSpringOutOfRange {
+                    muscle,
+                    spring: m.spring,
+                    springs: self.springs.len(),
+                });
+            }
+            if let MuscleDrive::Sine {
+                amplitude,
+                period,
+                phase,
+            } = m.drive
+            {
+                let bad = |field, value, reason| {
+                    Err(BuildError::BadMuscle {
+                        muscle,
+                        field,
+                        value,
+                        reason,
+                    })
+                };
+                if !(amplitude.is_finite() && amplitude.abs() < 1.0) {
+                    return bad(
+                        "amplitude",
+                        amplitude,
+                        "|amplitude| must be below 1 (the rest length would reach zero)",
+                    );
+                }
+                if !(period.is_finite() && period > 0.0) {
+                    return bad("period", period, "must be a positive time (s)");
+                }
+                if !phase.is_finite() {
+                    return bad("phase", phase, "must be a finite angle (rad)");
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Length of `rod` (m): the given one, or the distance at creation.
+    pub fn rod_length(&self, rod: &RodData) -> Real {
+        rod.length
+            .unwrap_or_else(|| self.position[rod.first].distance(self.position[rod.second]))
+    }
+
     /// Rest length of `spring` (m): the given one, or the distance at creation.
     pub fn rest_length(&self, spring: &SpringData) -> Real {
         spring
@@ -415,6 +615,12 @@ pub struct Body {
     pub edges: Vec<[u32; 2]>,
     /// How the body takes part in contacts between bodies.
     pub contact: BodyContact,
+    /// Indices of the body's rods in the world's [`crate::Rods`].
+    pub rods: Range<usize>,
+    /// The body is rigid (see [`BodyData::rigid`]).
+    pub rigid: bool,
+    /// The body takes part in mutual gravitation.
+    pub gravitating: bool,
 }
 
 impl Body {

@@ -46,6 +46,58 @@ pub enum BuildError {
         /// The value given.
         value: Real,
     },
+    /// A rod naming a particle that does not exist.
+    #[error(
+        "`rods`[{rod}]: particle index {bad} is out of range (the body has {particles} particles)"
+    )]
+    RodIndexOutOfRange {
+        /// Rod index.
+        rod: usize,
+        /// The index out of range.
+        bad: usize,
+        /// Particles in the body.
+        particles: usize,
+    },
+    /// A rod of zero (or non-finite) length, or from a particle to itself.
+    #[error(
+        "`rods`[{rod}] has length {length} m: a rod joins two particles a positive distance apart"
+    )]
+    BadRodLength {
+        /// Rod index.
+        rod: usize,
+        /// Its length (m).
+        length: Real,
+    },
+    /// A muscle naming a spring that does not exist.
+    #[error(
+        "`muscles`[{muscle}].spring = {spring}: out of range (the body has {springs} springs)"
+    )]
+    MuscleSpringOutOfRange {
+        /// Muscle index.
+        muscle: usize,
+        /// The spring index given.
+        spring: usize,
+        /// Springs in the body.
+        springs: usize,
+    },
+    /// A muscle parameter outside its range.
+    #[error("`muscles`[{muscle}].{field} = {value}: {reason}")]
+    BadMuscle {
+        /// Muscle index.
+        muscle: usize,
+        /// Key of the parameter.
+        field: &'static str,
+        /// The value given.
+        value: Real,
+        /// What the allowed range is.
+        reason: &'static str,
+    },
+    /// `rigid = true` on a body of fewer than two particles.
+    #[error("`rigid` = true needs at least two particles")]
+    RigidTooSmall,
+    /// `rigid = true` on a body with pinned particles.
+    #[error("`rigid` = true cannot be combined with `pinned` particles")]
+    RigidPinned,
     /// A parameter outside its allowed range.
     #[error("`{field}` = {value}: {reason}")]
     OutOfRange {

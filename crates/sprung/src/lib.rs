@@ -25,6 +25,7 @@
 pub mod body;
 pub mod build;
 pub mod collide;
+pub mod constrain;
 pub mod contact;
 pub mod error;
 pub mod forces;
@@ -42,8 +43,9 @@ pub type Real = f64;
 /// A 3D vector of [`Real`]; 2D scenes use z = 0.
 pub type Vec3 = glam::DVec3;
 
-pub use body::{Body, BodyContact, BodyData, SpringData};
+pub use body::{Body, BodyContact, BodyData, MuscleData, MuscleDrive, RodData, SpringData};
 pub use collide::{Collider, ContactResponse, Path, Shape};
+pub use constrain::{ConstraintSettings, Rods};
 pub use contact::{ContactSettings, Contacts};
 pub use error::{BuildError, StepError};
 pub use gas::{Gas, VolumeModel};

@@ -22,12 +22,14 @@ pub struct Energies {
     pub gas: Real,
     /// Elastic energy of penalty contacts (J).
     pub contact: Real,
+    /// Potential energy of mutual gravitation, `-Σ_{i<j} G m_i m_j / √(r² + ε²)` (J).
+    pub gravitation: Real,
 }
 
 impl Energies {
     /// The sum of every term (J).
     pub fn total(&self) -> Real {
-        self.kinetic + self.spring + self.gravity + self.gas + self.contact
+        self.kinetic + self.spring + self.gravity + self.gas + self.contact + self.gravitation
     }
 }
 

@@ -9,15 +9,21 @@
 //!    needs, and the implicit integrators for their Jacobian products;
 //! 2. **integrate** positions and velocities (explicit, or implicit with a
 //!    solver that reports its iterations in a [`StepReport`]);
-//! 3. **constrain**: the place for distance constraints (rigid rods), which
-//!    the engine does not have yet;
-//! 4. **collide**: projection-form colliders, where they are at the end of
-//!    the step (moving ones follow their path), move particles back out;
+//! 3. **collide**: projection-form colliders, where they are at the end of
+//!    the step (moving ones follow their path), move particles back out,
+//!    then friction between bodies;
+//! 4. **constrain** ([`crate::constrain`]): rigid rods and rigid bodies
+//!    put back on their lengths and shapes, velocities with them, so they
+//!    hold exactly at the end of every step (muscles set their rest lengths
+//!    before the forces);
 //! 5. **guard**: a non-finite or runaway state stops the run with
 //!    [`StepError::BlowUp`].
 
-use crate::body::{Body, BodyData, SpringData};
+use crate::body::{Body, BodyData};
 use crate::collide::{self, Collider, ContactConstraint};
+use crate::constrain::{
+    ConstraintSettings, Muscle, Muscles, RigidBodies, RigidBody, RodReport, Rods,
+};
 use crate::contact::{BodyContacts, Contacts};
 use crate::error::{BlowUpReason, BuildError, StepError};
 use crate::forces::{
@@ -59,6 +65,8 @@ pub struct Settings {
     pub solver: SolverSettings,
     /// Substeps of each step. Default one.
     pub substeps: Substeps,
+    /// Tolerance and sweeps of the rods' projection.
+    pub constraints: ConstraintSettings,
 }
 
 impl Default for Settings {
@@ -68,6 +76,7 @@ impl Default for Settings {
             max_speed: 1e6,
             solver: SolverSettings::default(),
             substeps: Substeps::Fixed(1),
+            constraints: ConstraintSettings::default(),
         }
     }
 }
@@ -104,6 +113,16 @@ pub struct World {
     pub contacts: Contacts,
     /// Blow-up limits and solver tolerances.
     pub settings: Settings,
+    /// Rigid rods (distance constraints) of every body.
+    pub rods: Rods,
+    /// Springs whose rest lengths change in time.
+    pub muscles: Muscles,
+    /// Rigid bodies.
+    pub rigid: RigidBodies,
+    /// Positions before the rods' projection (scratch).
+    rod_scratch: Vec<Vec3>,
+    /// What the rods' projection did in the last step.
+    last_rods: RodReport,
     integrator: Box<dyn Integrator>,
     time: Real,
     /// Kahan compensation of `time`, so that many small steps add up to the
@@ -136,6 +155,11 @@ impl World {
             colliders: Vec::new(),
             contacts: Contacts::default(),
             settings: Settings::default(),
+            rods: Rods::default(),
+            muscles: Muscles::default(),
+            rigid: RigidBodies::default(),
+            rod_scratch: Vec::new(),
+            last_rods: RodReport::default(),
             integrator: integrator.create(),
             time: 0.0,
             time_compensation: 0.0,
@@ -222,9 +246,17 @@ impl World {
         // Stored by lowest particle (then highest): the order the force
         // threads take them in (`parallel::Schedule`), streaming through
         // neighbouring particles.
-        let mut order: Vec<&SpringData> = data.springs.iter().collect();
-        order.sort_by_key(|s| (s.first.min(s.second), s.first.max(s.second)));
-        for s in order {
+        let mut order: Vec<usize> = (0..data.springs.len()).collect();
+        order.sort_by_key(|&k| {
+            let s = &data.springs[k];
+            (s.first.min(s.second), s.first.max(s.second))
+        });
+        // Where each spring of the data went (for the muscles).
+        let mut stored = vec![0; order.len()];
+        for (place, &k) in order.iter().enumerate() {
+            stored[k] = first_spring + place;
+        }
+        for s in order.iter().map(|&k| &data.springs[k]) {
             self.springs.push(
                 index(s.first),
                 index(s.second),
@@ -247,7 +279,34 @@ impl World {
                 .map(|e| e.map(index))
                 .collect(),
             contact: data.contact,
+            rods: self.rods.len()..self.rods.len() + data.rods.len(),
+            rigid: data.rigid,
+            gravitating: data.gravitating,
         };
+        for rod in &data.rods {
+            self.rods
+                .push(index(rod.first), index(rod.second), data.rod_length(rod));
+        }
+        for muscle in &data.muscles {
+            let spring = stored[muscle.spring];
+            let rest_length = self.springs.rest_length[spring];
+            let factor = muscle.drive.factor(self.time);
+            if factor.is_finite() && factor > 0.0 {
+                self.springs.rest_length[spring] = rest_length * factor;
+            }
+            self.muscles.list.push(Muscle {
+                spring,
+                rest_length,
+                drive: muscle.drive.clone(),
+            });
+        }
+        if data.rigid {
+            self.rigid.list.push(RigidBody::new(
+                body.particles.clone(),
+                &self.particles.position,
+                &self.particles.mass,
+            ));
+        }
         orient_outward(&mut body, &self.particles.position);
         self.bodies.push(body);
         Ok(self.bodies.len() - 1)
@@ -274,6 +333,7 @@ impl World {
         let h = dt / Real::from(substeps);
         let mut report = StepReport::default();
         for _ in 0..substeps {
+            self.move_muscles()?;
             report = report.then(self.integrate(h)?);
             self.advance_time(h);
             self.collide();
@@ -284,6 +344,7 @@ impl World {
                 &self.particles.inverse_mass,
                 h,
             );
+            self.constrain(h);
         }
         if substeps > 1 {
             report.substeps = Some(substeps);
@@ -302,8 +363,51 @@ impl World {
         Ok(report)
     }
 
+    /// The muscles' rest lengths at the start of the (sub)step.
+    fn move_muscles(&mut self) -> Result<(), StepError> {
+        self.muscles
+            .apply(self.time, &mut self.springs)
+            .map_err(|(muscle, factor)| {
+                StepError::InvalidSettings(BuildError::BadMuscle {
+                    muscle,
+                    field: "drive",
+                    value: factor,
+                    reason: "the drive must give a positive, finite factor of the rest length",
+                })
+            })
+    }
+
+    /// The constrain stage: rods, then rigid bodies, over a step of `dt` (s).
+    fn constrain(&mut self, dt: Real) {
+        let Particles {
+            position,
+            velocity,
+            mass,
+            inverse_mass,
+            ..
+        } = &mut self.particles;
+        let constraints = self.settings.constraints;
+        self.last_rods = self.rods.project(
+            position,
+            velocity,
+            inverse_mass,
+            dt,
+            constraints.tolerance,
+            constraints.iterations,
+            &mut self.rod_scratch,
+        );
+        self.rigid.project(position, velocity, mass);
+    }
+
+    /// What the rods' projection did in the last step: sweeps and the
+    /// largest relative length error left.
+    pub fn last_rod_report(&self) -> RodReport {
+        self.last_rods
+    }
+
     /// Check the solver, contact and substep settings.
     fn validate_settings(&self) -> Result<(), BuildError> {
+        self.settings.constraints.validate()?;
         self.settings.solver.validate()?;
         self.contacts.settings.validate()?;
         if self.settings.substeps == Substeps::Fixed(0) {

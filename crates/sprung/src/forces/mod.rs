@@ -26,6 +26,7 @@
 
 mod contact;
 mod drag;
+mod gravitation;
 mod gravity;
 mod list;
 mod mouse;
@@ -37,6 +38,7 @@ mod wind_field;
 
 pub use contact::PenaltyContacts;
 pub use drag::AirDrag;
+pub use gravitation::{Gravitation, GRAVITATIONAL_CONSTANT};
 pub use gravity::Gravity;
 pub use list::ForceList;
 pub use mouse::MouseSpring;

@@ -1,0 +1,65 @@
+//! The constrain stage of the step: what must hold exactly after every
+//! step, whatever the integrator did.
+//!
+//! - [`Rods`]: rigid rods (distance constraints) between particles, by
+//!   iterative mass-weighted projection ([`Rods::project`]);
+//! - [`RigidBodies`]: bodies that keep every pairwise distance, by shape
+//!   matching with the momentum and angular momentum kept
+//!   ([`RigidBodies::project`]);
+//! - [`Muscles`]: springs whose rest length follows a function of time,
+//!   set before each (sub)step ([`Muscles::apply`]).
+//!
+//! The stage runs after the colliders and friction, so rods and rigid
+//! bodies hold exactly at the end of every step, and a collider's impulse
+//! on one particle of a rigid body moves the whole body.
+
+mod muscles;
+mod rigid;
+mod rods;
+
+pub use muscles::{Muscle, Muscles};
+pub use rigid::{RigidBodies, RigidBody};
+pub use rods::{RodReport, Rods};
+
+use crate::error::BuildError;
+use crate::Real;
+
+/// Tolerances of the constrain stage (`[sim]` keys).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConstraintSettings {
+    /// Largest relative error of a rod's length, `|d - L| / L`, the
+    /// projection stops at. Default 1e-9.
+    pub tolerance: Real,
+    /// Most sweeps over the rods per step. Default 1000.
+    pub iterations: u32,
+}
+
+impl Default for ConstraintSettings {
+    fn default() -> Self {
+        ConstraintSettings {
+            tolerance: 1e-9,
+            iterations: 1000,
+        }
+    }
+}
+
+impl ConstraintSettings {
+    /// Refuse a tolerance that is not positive and finite, or no iterations.
+    pub fn validate(&self) -> Result<(), BuildError> {
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(BuildError::OutOfRange {
+                field: "constraint_tolerance",
+                value: self.tolerance,
+                reason: "must be a positive relative length error",
+            });
+        }
+        if self.iterations == 0 {
+            return Err(BuildError::OutOfRange {
+                field: "constraint_iterations",
+                value: 0.0,
+                reason: "must be at least 1",
+            });
+        }
+        Ok(())
+    }
+}

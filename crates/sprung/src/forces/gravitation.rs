@@ -1,0 +1,176 @@
+//! Mutual gravitation between particles (Newton's law of universal
+//! gravitation), with optional softening:
+//!
+//! `f_i = Σ_j G m_i m_j (x_j - x_i) / (|x_j - x_i|² + ε²)^{3/2}`,
+//! energy `E = -Σ_{i<j} G m_i m_j / √(|x_j - x_i|² + ε²)`,
+//!
+//! between every pair of particles of the bodies that take part
+//! ([`crate::BodyData::gravitating`]). Direct summation, `O(N²)`: each
+//! particle gathers the pull of every other in a fixed order on whatever
+//! thread takes it, so the result does not depend on the threads. In the
+//! implicit solvers it acts with its value at the start of the step
+//! ([`Linearization::Explicit`]).
+
+use super::{Force, ForceContext, JacobianScale, Linearization};
+use crate::error::BuildError;
+use crate::measure::Energies;
+use crate::parallel;
+use crate::{Real, Vec3};
+
+/// The gravitational constant `G` (N·m²/kg², CODATA 2018).
+pub const GRAVITATIONAL_CONSTANT: Real = 6.674e-11;
+
+/// Mutual gravitation (the `[gravitation]` scene table).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Gravitation {
+    /// `G` (N·m²/kg²).
+    pub constant: Real,
+    /// Softening length `ε` (m): the pull of two particles closer than it
+    /// levels off instead of diverging.
+    pub softening: Real,
+    /// The particles that take part, built from the bodies on first use.
+    members: Vec<u32>,
+    /// Per particle, whether it takes part.
+    member: Vec<bool>,
+    /// The bodies the members were taken from (body count, particle count).
+    built_for: (usize, usize),
+}
+
+impl Gravitation {
+    /// Gravitation with constant `constant` (N·m²/kg²) and softening
+    /// `softening` (m); refused unless both are finite and not negative.
+    pub fn new(constant: Real, softening: Real) -> Result<Self, BuildError> {
+        if !(constant.is_finite() && constant >= 0.0) {
+            return Err(BuildError::OutOfRange {
+                field: "gravitation.constant",
+                value: constant,
+                reason: "must be a finite, non-negative constant (N·m²/kg²)",
+            });
+        }
+        if !(softening.is_finite() && softening >= 0.0) {
+            return Err(BuildError::OutOfRange {
+                field: "gravitation.softening",
+                value: softening,
+                reason: "must be a finite, non-negative length (m)",
+            });
+        }
+        Ok(Gravitation {
+            constant,
+            softening,
+            members: Vec::new(),
+            member: Vec::new(),
+            built_for: (usize::MAX, usize::MAX),
+        })
+    }
+
+    fn refresh(&mut self, context: &ForceContext) {
+        let key = (context.bodies.len(), context.position.len());
+        if key == self.built_for {
+            return;
+        }
+        self.built_for = key;
+        self.member.clear();
+        self.member.resize(context.position.len(), false);
+        self.members.clear();
+        for body in context.bodies.iter().filter(|b| b.gravitating) {
+            for i in body.particles.clone() {
+                self.member[i] = true;
+                self.members.push(i as u32);
+            }
+        }
+    }
+
+    /// `(x_j - x_i) / (|x_j - x_i|² + ε²)^{3/2}` (1/m²).
+    fn pull(&self, from: Vec3, to: Vec3) -> Vec3 {
+        let d = to - from;
+        let r2 = d.length_squared() + self.softening * self.softening;
+        if r2 == 0.0 {
+            return Vec3::ZERO;
+        }
+        d / (r2 * r2.sqrt())
+    }
+}
+
+impl Force for Gravitation {
+    fn name(&self) -> &'static str {
+        "gravitation"
+    }
+
+    fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
+        self.refresh(context);
+        let (x, m, g) = (context.position, context.mass, self.constant);
+        let this = &*self;
+        parallel::for_each_span(force, |start, force| {
+            for (k, f) in force.iter_mut().enumerate() {
+                let i = start + k;
+                if !this.member[i] {
+                    continue;
+                }
+                let mut sum = Vec3::ZERO;
+                for &j in &this.members {
+                    let j = j as usize;
+                    if j != i {
+                        sum += m[j] * this.pull(x[i], x[j]);
+                    }
+                }
+                *f += g * m[i] * sum;
+            }
+        });
+    }
+
+    fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
+        let (x, m) = (context.position, context.mass);
+        // Before the first force evaluation the members are not built yet
+        // (the energy of step 0): take them from the bodies.
+        let fresh: Vec<u32>;
+        let members = if self.built_for == (context.bodies.len(), x.len()) {
+            &self.members
+        } else {
+            fresh = context
+                .bodies
+                .iter()
+                .filter(|b| b.gravitating)
+                .flat_map(|b| b.particles.clone().map(|i| i as u32))
+                .collect();
+            &fresh
+        };
+        let eps2 = self.softening * self.softening;
+        energies.gravitation -= self.constant
+            * parallel::sum(members.len(), |range| {
+                range
+                    .map(|a| {
+                        let i = members[a] as usize;
+                        members[a + 1..]
+                            .iter()
+                            .map(|&j| {
+                                let j = j as usize;
+                                let r2 = x[i].distance_squared(x[j]) + eps2;
+                                if r2 == 0.0 {
+                                    0.0
+                                } else {
+                                    m[i] * m[j] / r2.sqrt()
+                                }
+                            })
+                            .sum::<Real>()
+                    })
+                    .sum()
+            });
+    }
+
+    /// Held at its start-of-step value in the implicit solves.
+    fn linearize(&mut self, context: &ForceContext) -> Linearization {
+        self.refresh(context);
+        Linearization::Explicit
+    }
+
+    fn add_jacobian_products(
+        &self,
+        _: &ForceContext,
+        _: JacobianScale,
+        _: &[Vec3],
+        _: &mut [Vec3],
+    ) {
+    }
+
+    fn add_jacobian_diagonal(&self, _: &ForceContext, _: JacobianScale, _: &mut [Vec3]) {}
+}
