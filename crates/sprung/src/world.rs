@@ -119,6 +119,8 @@ pub struct World {
     pub muscles: Muscles,
     /// Rigid bodies.
     pub rigid: RigidBodies,
+    /// Positions at the start of the (sub)step, for the rods' directions.
+    step_start: Vec<Vec3>,
     /// Positions before the rods' projection (scratch).
     rod_scratch: Vec<Vec3>,
     /// What the rods' projection did in the last step.
@@ -158,6 +160,7 @@ impl World {
             rods: Rods::default(),
             muscles: Muscles::default(),
             rigid: RigidBodies::default(),
+            step_start: Vec::new(),
             rod_scratch: Vec::new(),
             last_rods: RodReport::default(),
             integrator: integrator.create(),
@@ -334,6 +337,10 @@ impl World {
         let mut report = StepReport::default();
         for _ in 0..substeps {
             self.move_muscles()?;
+            if !self.rods.is_empty() {
+                self.step_start.clear();
+                self.step_start.extend_from_slice(&self.particles.position);
+            }
             report = report.then(self.integrate(h)?);
             self.advance_time(h);
             self.collide();
@@ -390,13 +397,27 @@ impl World {
         self.last_rods = self.rods.project(
             position,
             velocity,
+            &self.step_start,
             inverse_mass,
             dt,
             constraints.tolerance,
             constraints.iterations,
             &mut self.rod_scratch,
         );
-        self.rigid.project(position, velocity, mass);
+        let rest_speed = 2.0
+            * dt
+            * self
+                .forces
+                .get::<Gravity>()
+                .map_or(0.0, |g| g.acceleration.length());
+        self.rigid.project(
+            position,
+            velocity,
+            mass,
+            &self.colliders,
+            self.time,
+            rest_speed,
+        );
     }
 
     /// What the rods' projection did in the last step: sweeps and the
@@ -494,16 +515,20 @@ impl World {
 
     /// The projection stage, at the time after the step (`self.time` has
     /// been advanced), where moving colliders have got to.
+    /// Rigid bodies meet the colliders as bodies, in the constrain stage.
     fn collide(&mut self) {
         let particles = &mut self.particles;
-        for collider in &self.colliders {
-            collide::project(
-                collider,
-                self.time,
-                &mut particles.position,
-                &mut particles.velocity,
-                &particles.inverse_mass,
-            );
+        for body in self.bodies.iter().filter(|b| !b.rigid) {
+            let range = body.particles.clone();
+            for collider in &self.colliders {
+                collide::project(
+                    collider,
+                    self.time,
+                    &mut particles.position[range.clone()],
+                    &mut particles.velocity[range.clone()],
+                    &particles.inverse_mass[range.clone()],
+                );
+            }
         }
     }
 

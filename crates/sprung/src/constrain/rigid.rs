@@ -15,6 +15,18 @@
 //! moves and turns the whole body, and a body in free flight keeps its
 //! spin. Every pairwise distance holds to rounding.
 //!
+//! **Colliders.** A rigid body meets the projection colliders as a body,
+//! not particle by particle (a particle's reflection would be averaged
+//! away by the projection, and the body would land as if inelastic): it
+//! is moved out by its deepest particle, then each touching particle that
+//! approaches the surface takes an impulse with the body's effective mass
+//! there, `1/k = 1/M + n·((I⁻¹ (r × n)) × r)`, so that it leaves at the
+//! restitution times its approach speed, with a Coulomb friction impulse
+//! of at most the friction coefficient times the normal one (a few passes
+//! over the touching particles, as sequential impulses). Below
+//! `rest_speed` (the speed gravity gives in two steps) a contact is
+//! treated as resting: no restitution, so a body at rest does not jitter.
+//!
 //! Shape matching was chosen over rods between every pair of particles:
 //! its cost is linear in the particles, it needs no iterations to converge,
 //! and it never leaves a body slightly bent.
@@ -23,6 +35,7 @@ use std::ops::Range;
 
 use glam::{DMat3, DQuat};
 
+use crate::collide::{Collider, ContactResponse};
 use crate::{Real, Vec3};
 
 /// One rigid body: its particles, rest shape and last rotation.
@@ -34,7 +47,42 @@ pub struct RigidBody {
     pub rest: Vec<Vec3>,
     /// Rotation from the rest shape at the end of the last step.
     pub rotation: DQuat,
+    /// The motion of the last projection: centre of mass (m), its velocity
+    /// (m/s), the spin (rad/s), the total mass (kg) and the inverse inertia
+    /// (1/(kg·m²)) about the centre.
+    motion: Motion,
 }
+
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Motion {
+    centre: Vec3,
+    drift: Vec3,
+    spin: Vec3,
+    mass: Real,
+    inverse_inertia: DMat3,
+}
+
+impl Motion {
+    /// Velocity (m/s) of the body's point at `x` (m).
+    fn velocity_at(&self, x: Vec3) -> Vec3 {
+        self.drift + self.spin.cross(x - self.centre)
+    }
+
+    /// Apply `impulse` (N·s) at the point `x` (m).
+    fn kick(&mut self, x: Vec3, impulse: Vec3) {
+        self.drift += impulse / self.mass;
+        self.spin += self.inverse_inertia * (x - self.centre).cross(impulse);
+    }
+
+    /// `1/k`: the effective inverse mass (1/kg) at `x` (m) along `n`.
+    fn inverse_mass_along(&self, x: Vec3, n: Vec3) -> Real {
+        let r = x - self.centre;
+        1.0 / self.mass + n.dot((self.inverse_inertia * r.cross(n)).cross(r))
+    }
+}
+
+/// Passes of sequential impulses over a rigid body's touching particles.
+const IMPULSE_PASSES: usize = 8;
 
 /// The world's rigid bodies.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -60,6 +108,7 @@ impl RigidBody {
             particles,
             rest,
             rotation: DQuat::IDENTITY,
+            motion: Motion::default(),
         }
     }
 
@@ -95,19 +144,124 @@ impl RigidBody {
             inertia +=
                 m * (DMat3::from_diagonal(Vec3::splat(arm.length_squared())) - outer(arm, arm));
         }
-        let spin = solve_inertia(inertia, angular);
-        let drift = momentum / total;
+        let inverse_inertia = inverse_inertia(inertia);
+        self.motion = Motion {
+            centre,
+            drift: momentum / total,
+            spin: inverse_inertia * angular,
+            mass: total,
+            inverse_inertia,
+        };
         for (v, x) in v.iter_mut().zip(x.iter()) {
-            *v = drift + spin.cross(*x - centre);
+            *v = self.motion.velocity_at(*x);
+        }
+    }
+
+    /// Meet the projection colliders at `time` (s) as a body (see the
+    /// module docs), after [`RigidBody::project`].
+    pub fn collide(
+        &mut self,
+        colliders: &[Collider],
+        time: Real,
+        rest_speed: Real,
+        position: &mut [Vec3],
+        velocity: &mut [Vec3],
+    ) {
+        let range = self.particles.clone();
+        let (x, v) = (&mut position[range.clone()], &mut velocity[range]);
+        let mut touched = false;
+        for collider in colliders {
+            let ContactResponse::Projection {
+                restitution,
+                friction,
+            } = collider.response
+            else {
+                continue;
+            };
+            let shape = collider.shape_at(time);
+            let surface_velocity = collider.velocity_at(time);
+            let deepest = x
+                .iter()
+                .map(|&p| shape.distance_and_normal(p))
+                .fold((0.0, Vec3::ZERO), |a, b| if b.0 < a.0 { b } else { a });
+            if deepest.0 >= 0.0 {
+                continue;
+            }
+            touched = true;
+            let shift = -deepest.0 * deepest.1;
+            x.iter_mut().for_each(|p| *p += shift);
+            self.motion.centre += shift;
+            // The approach speed of each touching particle before any
+            // impulse, for its restitution.
+            let touching = |p: Vec3| {
+                let (distance, normal) = shape.distance_and_normal(p);
+                (distance <= 1e-9 * (1.0 + p.length())).then_some(normal)
+            };
+            let mut pushed = vec![0.0; x.len()];
+            let approach: Vec<Real> = x
+                .iter()
+                .map(|&p| {
+                    touching(p).map_or(0.0, |n| {
+                        (self.motion.velocity_at(p) - surface_velocity)
+                            .dot(n)
+                            .min(0.0)
+                    })
+                })
+                .collect();
+            for _ in 0..IMPULSE_PASSES {
+                for (k, &p) in x.iter().enumerate() {
+                    let Some(n) = touching(p) else { continue };
+                    let relative = self.motion.velocity_at(p) - surface_velocity;
+                    let bounce = if -approach[k] > rest_speed {
+                        restitution
+                    } else {
+                        0.0
+                    };
+                    let target = -bounce * approach[k];
+                    let normal_speed = relative.dot(n);
+                    // Accumulated normal impulse stays pushing (≥ 0).
+                    let wanted = (target - normal_speed) / self.motion.inverse_mass_along(p, n);
+                    let total = (pushed[k] + wanted).max(0.0);
+                    let impulse = total - pushed[k];
+                    pushed[k] = total;
+                    self.motion.kick(p, impulse * n);
+                    // Friction: stop the sliding, up to μ times the push.
+                    let relative = self.motion.velocity_at(p) - surface_velocity;
+                    let sliding = relative - relative.dot(n) * n;
+                    let speed = sliding.length();
+                    if speed > 0.0 && friction > 0.0 {
+                        let t = sliding / speed;
+                        let stop = speed / self.motion.inverse_mass_along(p, t);
+                        self.motion
+                            .kick(p, -stop.min(friction * impulse.max(0.0)) * t);
+                    }
+                }
+            }
+        }
+        if touched {
+            for (v, p) in v.iter_mut().zip(x.iter()) {
+                *v = self.motion.velocity_at(*p);
+            }
         }
     }
 }
 
 impl RigidBodies {
-    /// Put every rigid body on its rest shape.
-    pub fn project(&mut self, position: &mut [Vec3], velocity: &mut [Vec3], mass: &[Real]) {
+    /// Put every rigid body on its rest shape, then let it meet the
+    /// projection `colliders` at `time` (s); contacts slower than
+    /// `rest_speed` (m/s) rest rather than bounce.
+    pub fn project(
+        &mut self,
+        position: &mut [Vec3],
+        velocity: &mut [Vec3],
+        mass: &[Real],
+        colliders: &[Collider],
+        time: Real,
+        rest_speed: Real,
+    ) {
         for body in &mut self.list {
             body.project(position, velocity, mass);
+            body.collide(colliders, time, rest_speed, position, velocity);
         }
     }
 }
@@ -146,17 +300,16 @@ fn best_rotation(a: DMat3, start: DQuat) -> DQuat {
     q
 }
 
-/// `ω` with `I ω = L`; for a body on a line (`I` singular along it) the
-/// spin about the line is zero.
-fn solve_inertia(inertia: DMat3, angular: Vec3) -> Vec3 {
+/// `I⁻¹`; for a body on a line (`I` singular along it) the moment about
+/// the line is regularised, so the spin about it stays zero.
+fn inverse_inertia(inertia: DMat3) -> DMat3 {
     let size = inertia.x_axis.x + inertia.y_axis.y + inertia.z_axis.z;
     if size == 0.0 {
-        return Vec3::ZERO;
+        return DMat3::ZERO;
     }
     if inertia.determinant().abs() > 1e-12 * size.powi(3) {
-        inertia.inverse() * angular
+        inertia.inverse()
     } else {
-        // A straight body: regularise the zero moment about its axis.
-        (inertia + DMat3::from_diagonal(Vec3::splat(1e-9 * size))).inverse() * angular
+        (inertia + DMat3::from_diagonal(Vec3::splat(1e-9 * size))).inverse()
     }
 }

@@ -1,23 +1,26 @@
-//! Rigid rods: `|x_j - x_i| = L` held by iterative projection.
+//! Rigid rods: `|x_j - x_i| = L` held by SHAKE and RATTLE.
 //!
-//! **Method.** After the integrator and the colliders, each sweep visits
-//! the rods in order (Gauss–Seidel) and moves the two ends along the rod,
-//! in inverse proportion to their masses, to the rod's length:
-//! `Δx_i = w_i C n / (w_i + w_j)`, `Δx_j = -w_j C n / (w_i + w_j)`, with
-//! `C = |d| - L`, `n = d / |d|` and `w` the inverse masses (a pinned end,
-//! `w = 0`, does not move). Sweeps repeat until every rod is within the
-//! tolerance. The velocities then take the same correction over the step
-//! (`Δv = Δx / dt`, as in RATTLE) and are projected onto the rods'
-//! tangent space the same way: the relative velocity along each rod is
-//! removed, mass-weighted, sweep after sweep. So a rod does no work, the
-//! momentum of the particles it joins is kept (its impulses are equal and
-//! opposite), and it works unchanged after any integrator.
+//! **Method.** After the integrator and the colliders, the positions are
+//! corrected along each rod's direction at the *start* of the step,
+//! `d⁰ = x⁰_j - x⁰_i`, in inverse proportion to the ends' masses (SHAKE):
+//! `x_i += w_i λ d⁰`, `x_j -= w_j λ d⁰`, with `λ = (|d|² - L²) / (2 (w_i +
+//! w_j) d·d⁰)` from the current `d = x_j - x_i` and `w` the inverse masses
+//! (a pinned end, `w = 0`, does not move). Sweeps over the rods in order
+//! (Gauss–Seidel) repeat until every rod is within the tolerance. The
+//! velocities take the same correction over the step (`Δv = Δx / dt`),
+//! then their relative velocity along each rod is removed, mass-weighted,
+//! sweep after sweep (RATTLE's second half). So a rod does no work and its
+//! impulses are equal and opposite (momentum is kept).
 //!
-//! This is SHAKE/RATTLE with the constraint direction taken at the
-//! projected positions rather than the previous ones: the same fixed point
-//! (the rod lengths exact), simpler, and it needs no constraint forces
-//! inside the integrator's trial states, so RK4's and the implicit
-//! solvers' stages stay as they are.
+//! Why the direction at the start: the correction then bends the velocity
+//! onto the chord of the step without slowing it, and the projection onto
+//! the new tangent turns it back, so a pendulum keeps its speed (its energy
+//! stays in a band, as with RATTLE). Correcting along the new direction
+//! instead would remove `1 - cos(ω dt)` of the speed every step (a 60°
+//! pendulum at 1e-3 s loses 90 % of its energy in 100 periods). The stage
+//! needs no constraint forces inside the integrator's trial states, so it
+//! works unchanged after every integrator, RK4's stages and the implicit
+//! solves included.
 
 use crate::{Real, Vec3};
 
@@ -71,16 +74,19 @@ impl Rods {
         (position[j].distance(position[i]) - self.length[r]).abs() / self.length[r]
     }
 
-    /// Project `position` (m) onto the rods, at most `iterations` sweeps
-    /// or until every relative error is within `tolerance`; give the
-    /// velocities (m/s) the correction over `dt` (s), then remove their
-    /// relative velocity along each rod. `inverse_mass` (1/kg) weighs the
-    /// ends; `start` (m) is scratch for the positions before.
+    /// Project `position` (m) onto the rods along their directions at
+    /// `before` (m, the positions at the start of the step), at most
+    /// `iterations` sweeps or until every relative error is within
+    /// `tolerance`; give the velocities (m/s) the correction over `dt`
+    /// (s), then remove their relative velocity along each rod.
+    /// `inverse_mass` (1/kg) weighs the ends; `start` (m) is scratch for
+    /// the positions before the projection.
     #[allow(clippy::too_many_arguments)]
     pub fn project(
         &self,
         position: &mut [Vec3],
         velocity: &mut [Vec3],
+        before: &[Vec3],
         inverse_mass: &[Real],
         dt: Real,
         tolerance: Real,
@@ -102,16 +108,23 @@ impl Rods {
                 if wi + wj == 0.0 {
                     continue;
                 }
+                let length = self.length[r];
                 let d = position[j] - position[i];
                 let distance = d.length();
-                if distance == 0.0 {
+                worst = worst.max((distance - length).abs() / length);
+                // The start-of-step direction, unless the rod turned nearly
+                // a right angle in the step (then the current one).
+                let mut along = before[j] - before[i];
+                if d.dot(along) <= 0.1 * distance * along.length() {
+                    along = d;
+                }
+                let denominator = 2.0 * (wi + wj) * d.dot(along);
+                if denominator == 0.0 {
                     continue;
                 }
-                let error = distance - self.length[r];
-                worst = worst.max(error.abs() / self.length[r]);
-                let shift = error / ((wi + wj) * distance) * d;
-                position[i] += wi * shift;
-                position[j] -= wj * shift;
+                let lambda = (distance * distance - length * length) / denominator;
+                position[i] += wi * lambda * along;
+                position[j] -= wj * lambda * along;
             }
             if worst <= tolerance {
                 break;
