@@ -69,7 +69,7 @@ fn run_writes_the_contracted_columns() {
         "--quiet prints nothing"
     );
     let (header, rows) = csv(&dir.path().join("res/diagnostics.csv"));
-    let expected = "step,time,kinetic,spring,gravity,gas,total,contact,contacts,solver_iterations,solver_residual,substeps,step_size,bob.volume,bob.pressure,bob.cx,bob.cy,bob.cz,p1.x,p1.y,p1.z";
+    let expected = "step,time,kinetic,spring,gravity,gas,total,contact,gravitation,contacts,solver_iterations,solver_residual,substeps,step_size,bob.volume,bob.pressure,bob.cx,bob.cy,bob.cz,p1.x,p1.y,p1.z";
     assert_eq!(header.join(","), expected);
     // Step 0, then every 10th of 100 steps.
     assert_eq!(rows.len(), 11);
@@ -85,7 +85,7 @@ fn run_writes_the_contracted_columns() {
         .expect("p1.y column");
     assert!(rows[10][probe_y] < 0.0);
     for row in &rows {
-        let sum: f64 = row[2..6].iter().sum::<f64>() + row[7];
+        let sum: f64 = row[2..6].iter().sum::<f64>() + row[7] + row[8];
         assert!((row[6] - sum).abs() <= 1e-12 * sum.abs().max(1.0));
     }
     assert_no_partial_files(dir.path());

@@ -550,3 +550,225 @@ fn contact_and_substep_keys() {
     );
     assert!(parse_scene(&tolerance("rk45", "1e-8"), Path::new("good.toml")).is_ok());
 }
+
+/// Rods: indices out of range, zero length (a particle to itself, or a
+/// given length of 0) and a `rod_lengths` list of the wrong length, each
+/// on the line of its key (GOOD has 9 lines, so appended keys start on 10).
+#[test]
+fn bad_rods() {
+    assert_error(
+        &format!("{GOOD}rods = [[0, 5]]\n"),
+        10,
+        &[
+            "body \"b\"",
+            "`rods`[0]",
+            "index 5 is out of range",
+            "3 particles",
+        ],
+    );
+    assert_error(
+        &format!("{GOOD}rods = [[0, 2], [1, 1]]\n"),
+        10,
+        &["`rods`[1]", "length 0"],
+    );
+    assert_error(
+        &format!("{GOOD}rods = [[0, 2]]\nrod_lengths = [0.0]\n"),
+        11,
+        &["`rods`[0]", "length 0"],
+    );
+    assert_error(
+        &format!("{GOOD}rods = [[0, 2]]\nrod_lengths = [1.0, 2.0]\n"),
+        11,
+        &["`rod_lengths` has 2 entries", "1 rods"],
+    );
+    assert_error(
+        &format!("{GOOD}rod_lengths = [1.0]\n"),
+        10,
+        &["`rod_lengths` has 1 entries", "0 rods"],
+    );
+}
+
+/// Muscles: a spring index out of range, `|amplitude| >= 1`, a period that
+/// is not positive, and unknown keys in the muscle's table.
+#[test]
+fn bad_muscles() {
+    let muscle = |fields: &str| format!("{GOOD}muscles = [{{ {fields} }}]\n");
+    assert_error(
+        &muscle("spring = 2, amplitude = 0.1, period = 1.0"),
+        10,
+        &["`muscles`[0].spring = 2", "out of range", "2 springs"],
+    );
+    assert_error(
+        &muscle("spring = 0, amplitude = 1.0, period = 1.0"),
+        10,
+        &["`muscles`[0].amplitude = 1", "below 1"],
+    );
+    assert_error(
+        &muscle("spring = 0, amplitude = -1.5, period = 1.0"),
+        10,
+        &["`muscles`[0].amplitude = -1.5", "below 1"],
+    );
+    assert_error(
+        &muscle("spring = 1, amplitude = 0.1, period = 0.0"),
+        10,
+        &["`muscles`[0].period = 0", "positive"],
+    );
+    assert_error(
+        &muscle("spring = 1, amplitude = 0.1, period = 1.0, frequency = 2.0"),
+        10,
+        &["unknown field `frequency`"],
+    );
+    assert_error(
+        &muscle("spring = 1, period = 1.0"),
+        10,
+        &["missing field `amplitude`"],
+    );
+}
+
+/// `rigid = true` needs two particles and no pins.
+#[test]
+fn bad_rigid_bodies() {
+    // GOOD has 9 lines: `[[body]]` is line 10, `rigid` line 13.
+    let dot = "[[body]]\nname = \"dot\"\nparticles = [[0.0, 5.0]]\nrigid = true\n";
+    assert_error(
+        &format!("{GOOD}{dot}"),
+        13,
+        &["body \"dot\"", "`rigid` = true", "two particles"],
+    );
+    assert_error(
+        &format!("{GOOD}pinned = [0]\nrigid = true\n"),
+        11,
+        &["`rigid` = true", "`pinned`"],
+    );
+}
+
+/// `[gravitation]`: a negative softening or constant; `gravitating`
+/// without the table.
+#[test]
+fn bad_gravitation() {
+    // GOOD has 9 lines: `[gravitation]` is line 10, its key line 11.
+    assert_error(
+        &format!("{GOOD}[gravitation]\nsoftening = -1.0\n"),
+        11,
+        &[
+            "gravitation:",
+            "`gravitation.softening` = -1",
+            "non-negative",
+        ],
+    );
+    assert_error(
+        &format!("{GOOD}[gravitation]\nconstant = 1.0\nsoftening = 0.1\nconstant_g = 1.0\n"),
+        13,
+        &["unknown field `constant_g`"],
+    );
+    assert_error(
+        &format!("{GOOD}[gravitation]\nsoftening = 0.1\nconstant = -6.674e-11\n"),
+        12,
+        &["`gravitation.constant`", "non-negative"],
+    );
+    assert_error(
+        &format!("{GOOD}gravitating = false\n"),
+        10,
+        &["`gravitating` needs a `[gravitation]` table"],
+    );
+}
+
+/// `constraint_tolerance` must be positive, `constraint_iterations` at
+/// least 1, on the line of the key (line 4).
+#[test]
+fn constraint_settings() {
+    let with = |key: &str| variant("steps = 10\n", &format!("steps = 10\n{key}\n"));
+    assert_error(
+        &with("constraint_tolerance = 0.0"),
+        4,
+        &["`constraint_tolerance` = 0", "positive"],
+    );
+    assert_error(
+        &with("constraint_tolerance = -1e-9"),
+        4,
+        &["`constraint_tolerance` = -0.000000001", "positive"],
+    );
+    assert_error(
+        &with("constraint_iterations = 0"),
+        4,
+        &["`constraint_iterations` = 0", "at least 1"],
+    );
+    assert_error(
+        &with("constraint_iterations = -5"),
+        4,
+        &["constraint_iterations"],
+    );
+    let scene = parse_scene(
+        &with("constraint_tolerance = 1e-6\nconstraint_iterations = 50"),
+        Path::new("good.toml"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.world.settings.constraints.tolerance, 1e-6);
+    assert_eq!(scene.world.settings.constraints.iterations, 50);
+}
+
+/// A scene with rods, muscles, a rigid body and `[gravitation]` loads whole.
+#[test]
+fn rods_muscles_rigid_and_gravitation_load() {
+    let text = r#"[sim]
+dt = 1e-3
+steps = 10
+gravity = [0.0, 0.0, 0.0]
+
+[[body]]
+name = "arm"
+particles = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [3.0, 0.0, 0.0]]
+springs = [[2, 3], [0, 1]]
+rods = [[1, 2], [0, 2]]
+rod_lengths = [1.0, 2.0]
+muscles = [{ spring = 0, amplitude = 0.5, period = 2.0, phase = 1.5707963267948966 }, { spring = 1, amplitude = 0.1, period = 1.0 }]
+
+[[body]]
+name = "block"
+lattice = { nx = 2, ny = 2, nz = 2, spacing = 0.5 }
+translate = [0.0, 5.0, 0.0]
+rigid = true
+gravitating = false
+
+[[body]]
+name = "moon"
+particles = [[0.0, -5.0, 0.0], [1.0, -5.0, 0.0]]
+mass = 1e9
+rigid = true
+
+[gravitation]
+softening = 0.01
+"#;
+    let mut scene = parse_scene(text, Path::new("good.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let world = &scene.world;
+    assert_eq!(world.rods.len(), 2);
+    assert_eq!(world.rods.length, vec![1.0, 2.0]);
+    assert_eq!(world.muscles.list.len(), 2);
+    assert_eq!(world.rigid.list.len(), 2);
+    // The first muscle is the scene's spring 0, [2, 3]: at t = 0 its rest
+    // length is L0 (1 + 0.5 sin(π/2)) = 1.5 m.
+    let muscle = &world.muscles.list[0];
+    assert_eq!(world.springs.rest_length[muscle.spring], 1.5);
+    assert_eq!(muscle.rest_length, 1.0);
+    let gravitation = world
+        .forces
+        .get::<sprung::forces::Gravitation>()
+        .expect("a gravitation force");
+    assert_eq!(gravitation.constant, sprung::forces::GRAVITATIONAL_CONSTANT);
+    assert_eq!(gravitation.softening, 0.01);
+    let gravitating: Vec<bool> = world.bodies.iter().map(|b| b.gravitating).collect();
+    assert_eq!(gravitating, [true, false, true]);
+    assert!(world.bodies[1].rigid && !world.bodies[0].rigid);
+    // It steps, and the rods and gravitation show in the energies.
+    for _ in 0..scene.steps {
+        scene.world.step(scene.dt).unwrap_or_else(|e| panic!("{e}"));
+    }
+    assert!(
+        scene
+            .world
+            .rods
+            .largest_error(&scene.world.particles.position)
+            < 1e-8
+    );
+    assert!(scene.world.energies().gravitation < 0.0);
+}

@@ -2,7 +2,10 @@
 
 use std::sync::Arc;
 
-use sprung::{BodyData, IntegratorKind, MuscleData, MuscleDrive, Real, SpringData, Vec3, World};
+use sprung::{
+    BodyData, Collider, ContactResponse, IntegratorKind, MuscleData, MuscleDrive, Real, Shape,
+    SpringData, Vec3, World,
+};
 
 /// Three particles in a row, springs listed out of the order the world
 /// stores them in (by lowest particle): [2–1, 0–1]; the muscle drives the
@@ -75,4 +78,84 @@ fn a_muscle_takes_any_function_of_time_and_refuses_a_bad_one() {
         .expect("a factor reaching zero is refused")
         .to_string();
     assert!(message.contains("muscles"), "{message}");
+}
+
+/// The walker: two feet and a heavy body on three springs, all muscles
+/// (period 1 s, amplitude 0.3). The feet's spring lengthens while the body
+/// leans over the rear foot (loading it, so it grips and the front foot
+/// slides ahead), and shortens while the body leans over the front foot.
+/// On a floor at y = 0 with friction `friction`.
+fn walker(friction: Real) -> World {
+    let mut body = BodyData::from_positions(vec![
+        Vec3::ZERO,
+        Vec3::new(0.4, 0.0, 0.0),
+        Vec3::new(0.2, 0.25, 0.0),
+    ]);
+    body.mass = vec![0.1, 0.1, 1.0];
+    body.springs = vec![
+        SpringData::between(0, 1),
+        SpringData::between(0, 2),
+        SpringData::between(1, 2),
+    ];
+    let mut body = body.with_stiffness(3000.0).with_damping(3.0);
+    let sine = |phase| MuscleDrive::Sine {
+        amplitude: 0.3,
+        period: 1.0,
+        phase,
+    };
+    let quarter = std::f64::consts::FRAC_PI_2;
+    body.muscles = vec![
+        MuscleData {
+            spring: 0,
+            drive: sine(0.0),
+        },
+        MuscleData {
+            spring: 1,
+            drive: sine(quarter),
+        },
+        MuscleData {
+            spring: 2,
+            drive: sine(-quarter),
+        },
+    ];
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    world.add_body("walker", body).unwrap();
+    let floor = Shape::plane(Vec3::ZERO, Vec3::Y).unwrap();
+    let response = ContactResponse::Projection {
+        restitution: 0.0,
+        friction,
+    };
+    world
+        .colliders
+        .push(Collider::new(floor, response).unwrap());
+    world
+}
+
+/// Horizontal position (m) of the walker's centre of mass.
+fn centroid_x(world: &World) -> Real {
+    let p = &world.particles;
+    let moment: Real = p.position.iter().zip(&p.mass).map(|(x, m)| m * x.x).sum();
+    moment / p.mass.iter().sum::<Real>()
+}
+
+#[test]
+fn the_walker_walks_on_a_rough_floor_and_stays_put_on_ice() {
+    let dt = 1e-4;
+    let length = 0.4; // between its feet (m)
+    let mut rough = walker(0.8);
+    let mut ice = walker(0.0);
+    let (start, start_ice) = (centroid_x(&rough), centroid_x(&ice));
+    for _ in 0..(10.0 / dt) as usize {
+        rough.step(dt).unwrap();
+        ice.step(dt).unwrap();
+    }
+    let walked = centroid_x(&rough) - start;
+    assert!(
+        walked > length,
+        "it walked {walked} m in 10 s, less than its length"
+    );
+    // No horizontal force on ice: the centre of mass stays where it was,
+    // to the rounding of 1e5 steps (1e-12 m).
+    let drift = centroid_x(&ice) - start_ice;
+    assert!(drift.abs() < 1e-12, "on ice it drifted {drift} m");
 }

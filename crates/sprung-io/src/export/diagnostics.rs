@@ -24,7 +24,7 @@ impl Diagnostics {
     pub fn create(path: &Path, world: &World, probes: &[usize]) -> io::Result<Self> {
         let mut file = AtomicFile::create(path)?;
         let mut header = String::from(
-            "step,time,kinetic,spring,gravity,gas,total,contact,contacts,solver_iterations,solver_residual,substeps,step_size",
+            "step,time,kinetic,spring,gravity,gas,total,contact,gravitation,contacts,solver_iterations,solver_residual,substeps,step_size",
         );
         for body in &world.bodies {
             for column in ["volume", "pressure", "cx", "cy", "cz"] {
@@ -54,7 +54,7 @@ impl Diagnostics {
         let optional = |value: Option<f64>| value.map(|v| v.to_string()).unwrap_or_default();
         let report = world.last_step_report();
         let mut row = format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             world.steps(),
             world.time(),
             e.kinetic,
@@ -63,6 +63,7 @@ impl Diagnostics {
             e.gas,
             e.total(),
             e.contact,
+            e.gravitation,
             world.active_contacts(),
             optional(report.iterations.map(f64::from)),
             optional(report.residual),

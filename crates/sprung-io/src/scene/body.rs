@@ -16,13 +16,21 @@
 //! (N·s/m) for all springs or one per spring, `one_sided`, `pinned`,
 //! `velocity` (m/s, all particles) or `velocities`, and the placement
 //! `scale`, `rotate` (degrees about x, y, z) and `translate` (m), applied
-//! in that order. Defaults: 1 kg per particle, [`DEFAULT_STIFFNESS`], no
-//! damping; a rope pins its top particle unless `pinned` says otherwise.
+//! in that order; `rods = [[i, j], ...]` (rigid rods, with optional
+//! `rod_lengths`, m, else the distance at creation), `muscles = [{ spring,
+//! amplitude, period, phase }, ...]` (springs whose rest length is
+//! `L0 (1 + a sin(2π t / T + φ))`), `rigid` and `gravitating`. Particle and
+//! spring indices are the body's own. Defaults: 1 kg per particle,
+//! [`DEFAULT_STIFFNESS`], no damping, not rigid, gravitating; a rope pins
+//! its top particle unless `pinned` says otherwise.
 
 use std::path::Path;
 
 use sprung::build::{self, ClothSprings, Internal, SurfaceSprings};
-use sprung::{BodyContact, BodyData, BuildError, Gas, SpringData, Vec3, VolumeModel};
+use sprung::{
+    BodyContact, BodyData, BuildError, Gas, MuscleData, MuscleDrive, RodData, SpringData, Vec3,
+    VolumeModel,
+};
 
 use super::tables::{BodyTable, GasTable, PerSpring};
 use super::FileSource;
@@ -51,6 +59,7 @@ pub(crate) fn body_data(
     }
     apply_masses(table, &mut data)?;
     apply_springs(table, &mut data)?;
+    apply_constraints(table, &mut data)?;
     if let Some(pinned) = &table.pinned {
         data.pinned = pinned.clone();
     }
@@ -365,12 +374,57 @@ fn apply_springs(table: &BodyTable, data: &mut BodyData) -> Result<(), KeyError>
     Ok(())
 }
 
+/// Rods, muscles, `rigid` and `gravitating` (checked by `World::add_body`).
+fn apply_constraints(table: &BodyTable, data: &mut BodyData) -> Result<(), KeyError> {
+    let pairs = table.rods.as_deref().unwrap_or_default();
+    data.rods = pairs
+        .iter()
+        .map(|&[first, second]| RodData {
+            first,
+            second,
+            length: None,
+        })
+        .collect();
+    if let Some(lengths) = &table.rod_lengths {
+        if lengths.len() != pairs.len() {
+            return Err((
+                "rod_lengths",
+                format!(
+                    "`rod_lengths` has {} entries but the body has {} rods",
+                    lengths.len(),
+                    pairs.len()
+                ),
+            ));
+        }
+        for (rod, &length) in data.rods.iter_mut().zip(lengths) {
+            rod.length = Some(length);
+        }
+    }
+    data.muscles = table
+        .muscles
+        .iter()
+        .flatten()
+        .map(|m| MuscleData {
+            spring: m.spring,
+            drive: MuscleDrive::Sine {
+                amplitude: m.amplitude,
+                period: m.period,
+                phase: m.phase.unwrap_or(0.0),
+            },
+        })
+        .collect();
+    data.rigid = table.rigid.unwrap_or(false);
+    data.gravitating = table.gravitating.unwrap_or(true);
+    Ok(())
+}
+
 /// The keys a user may have written for `key` (mass may come from three).
 pub(crate) fn aliases(key: &str) -> Vec<&str> {
     match key {
         "masses" | "mass" | "total_mass" => vec![key, "masses", "mass", "total_mass"],
         "velocities" => vec![key, "velocity"],
         "rest_lengths" => vec![key, "springs"],
+        "rod_lengths" => vec![key, "rods"],
         _ => vec![key],
     }
 }
@@ -394,5 +448,29 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::GasWithoutSurface | BuildError::OpenSurface { .. } => "gas",
         BuildError::SelfCollisionWithoutSurface => "self_collision",
         BuildError::DuplicateName(_) | BuildError::BadName(_) => "name",
+        BuildError::RodIndexOutOfRange { .. } | BuildError::BadRodLength { .. } => "rods",
+        BuildError::MuscleSpringOutOfRange { .. } | BuildError::BadMuscle { .. } => "muscles",
+        BuildError::RigidTooSmall | BuildError::RigidPinned => "rigid",
+    }
+}
+
+/// The scene key a [`BuildError`] of the body `table` is about: as
+/// [`key_of`], but a rod whose length the scene gave (`rod_lengths`) is
+/// found on that key's line.
+pub(crate) fn key_in(error: &BuildError, table: &BodyTable) -> &'static str {
+    match error {
+        BuildError::BadRodLength { rod, .. } => {
+            let joins_two = table
+                .rods
+                .as_deref()
+                .and_then(|rods| rods.get(*rod))
+                .is_some_and(|[first, second]| first != second);
+            if table.rod_lengths.is_some() && joins_two {
+                "rod_lengths"
+            } else {
+                "rods"
+            }
+        }
+        _ => key_of(error),
     }
 }

@@ -1,9 +1,10 @@
 //! Scene files: TOML read with serde into a ready-to-step [`World`].
 //!
 //! A scene has `[sim]` (time step `dt`, `integrator`, `gravity`,
-//! `duration` or `steps`, `air_drag`, `every`), any number of `[[body]]`
-//! tables (see the README for the keys), `[[collider]]` tables, and
-//! optional `[wind]` and `[camera]` tables. Every
+//! `duration` or `steps`, `air_drag`, `every`, the solvers' and the
+//! constraints' tolerances), any number of `[[body]]` tables (see the
+//! README for the keys), `[[collider]]` tables, and optional `[wind]`,
+//! `[contact]`, `[gravitation]` and `[camera]` tables. Every
 //! unknown key is an error naming it; every error names the file and the
 //! line. Nothing is half-built: a scene either loads whole or not at all.
 
@@ -16,6 +17,7 @@ pub use error::SceneError;
 
 use std::path::{Path, PathBuf};
 
+use sprung::forces::{Gravitation, GRAVITATIONAL_CONSTANT};
 use sprung::integrate::{Preconditioner, SolverSettings};
 use sprung::world::MAX_SUBSTEPS;
 use sprung::{
@@ -126,7 +128,7 @@ pub fn parse_scene_with(
         let data = body::body_data(body, scene_dir, files)
             .map_err(|(key, m)| at(span.clone(), key, format!("body \"{}\": {m}", body.name)))?;
         world.add_body(&body.name, data).map_err(|e| {
-            let key = body::key_of(&e);
+            let key = body::key_in(&e, body);
             at(span.clone(), key, format!("body \"{}\": {e}", body.name))
         })?;
     }
@@ -158,6 +160,17 @@ pub fn parse_scene_with(
             body.get_ref().name
         );
         return Err(at(body.span(), "wind_scale", message));
+    }
+    if let Some(table) = &file.gravitation {
+        let gravitation = gravitation(table.get_ref())
+            .map_err(|(key, m)| at(table.span(), key, format!("gravitation: {m}")))?;
+        world.forces.set(gravitation);
+    } else if let Some(body) = file.body.iter().find(|b| b.get_ref().gravitating.is_some()) {
+        let message = format!(
+            "body \"{}\": `gravitating` needs a `[gravitation]` table",
+            body.get_ref().name
+        );
+        return Err(at(body.span(), "gravitating", message));
     }
     if let Some(table) = &file.contact {
         world.contacts.settings = contact(table.get_ref())
@@ -272,6 +285,16 @@ fn apply_settings(world: &mut World, sim: &SimTable) -> Result<(), KeyError> {
     if let Some(v) = sim.max_speed {
         settings.max_speed = positive("max_speed", v, "must be positive (m/s)")?;
     }
+    if let Some(tolerance) = sim.constraint_tolerance {
+        settings.constraints.tolerance = tolerance;
+    }
+    if let Some(iterations) = sim.constraint_iterations {
+        settings.constraints.iterations = iterations;
+    }
+    settings
+        .constraints
+        .validate()
+        .map_err(|e| (body::key_of(&e), e.to_string()))?;
     Ok(())
 }
 
@@ -423,6 +446,22 @@ fn contact(table: &tables::ContactTable) -> Result<ContactSettings, KeyError> {
         (key, e.to_string())
     })?;
     Ok(settings)
+}
+
+/// The `[gravitation]` force: `constant` (N·m²/kg², default
+/// [`GRAVITATIONAL_CONSTANT`]) and `softening` (m, default 0).
+fn gravitation(table: &tables::GravitationTable) -> Result<Gravitation, KeyError> {
+    Gravitation::new(
+        table.constant.unwrap_or(GRAVITATIONAL_CONSTANT),
+        table.softening.unwrap_or(0.0),
+    )
+    .map_err(|e| {
+        let key = match body::key_of(&e) {
+            k if k.starts_with("gravitation.") => &k["gravitation.".len()..],
+            k => k,
+        };
+        (key, e.to_string())
+    })
 }
 
 fn camera(table: &tables::CameraTable) -> Result<SceneCamera, KeyError> {

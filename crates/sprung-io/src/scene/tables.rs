@@ -20,6 +20,20 @@ pub(crate) struct SceneFile {
     pub camera: Option<Spanned<CameraTable>>,
     #[serde(default)]
     pub contact: Option<Spanned<ContactTable>>,
+    #[serde(default)]
+    pub gravitation: Option<Spanned<GravitationTable>>,
+}
+
+/// `[gravitation]`: mutual gravitation between the bodies' particles.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct GravitationTable {
+    /// `G` (N·m²/kg²).
+    #[serde(default)]
+    pub constant: Option<f64>,
+    /// Softening length (m).
+    #[serde(default)]
+    pub softening: Option<f64>,
 }
 
 /// `[contact]`: how bodies touch each other.
@@ -139,6 +153,12 @@ pub(crate) struct SimTable {
     /// Substeps per step: a count, or "auto".
     #[serde(default)]
     pub substeps: Option<SubstepsValue>,
+    /// Relative length error the rods' projection stops at.
+    #[serde(default)]
+    pub constraint_tolerance: Option<f64>,
+    /// Most sweeps over the rods per step.
+    #[serde(default)]
+    pub constraint_iterations: Option<u32>,
 }
 
 /// `substeps = N` or `substeps = "auto"`.
@@ -201,6 +221,19 @@ pub(crate) struct BodyTable {
     /// Collides with itself (default false).
     #[serde(default)]
     pub self_collision: Option<bool>,
+    // Constraints and drives.
+    #[serde(default)]
+    pub rods: Option<Vec<[usize; 2]>>,
+    #[serde(default)]
+    pub rod_lengths: Option<Vec<f64>>,
+    #[serde(default)]
+    pub muscles: Option<Vec<MuscleTable>>,
+    /// Keeps its shape (default false).
+    #[serde(default)]
+    pub rigid: Option<bool>,
+    /// Takes part in `[gravitation]` (default true).
+    #[serde(default)]
+    pub gravitating: Option<bool>,
     // Keys every body accepts.
     #[serde(default)]
     pub mass: Option<f64>,
@@ -226,6 +259,21 @@ pub(crate) struct BodyTable {
     pub rotate: Option<Vec<f64>>,
     #[serde(default)]
     pub translate: Option<Vec<f64>>,
+}
+
+/// `muscles = [{ spring, amplitude, period, phase }, ...]`: one muscle.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct MuscleTable {
+    /// Index of the spring (in the order the body made them).
+    pub spring: usize,
+    /// Relative amplitude of the rest length.
+    pub amplitude: f64,
+    /// Period (s).
+    pub period: f64,
+    /// Phase (rad).
+    #[serde(default)]
+    pub phase: Option<f64>,
 }
 
 /// `rope = { particles, length }`.

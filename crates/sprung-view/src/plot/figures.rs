@@ -22,12 +22,13 @@ const PALETTE: [RGBColor; 10] = [
 ];
 
 /// The energy terms and their colours; `total` comes last, in black.
-const ENERGY_TERMS: [(&str, RGBColor); 5] = [
+const ENERGY_TERMS: [(&str, RGBColor); 6] = [
     ("kinetic", RGBColor(214, 39, 40)),
     ("spring", RGBColor(31, 119, 180)),
     ("gravity", RGBColor(44, 160, 44)),
     ("gas", RGBColor(255, 127, 14)),
     ("contact", RGBColor(148, 103, 189)),
+    ("gravitation", RGBColor(140, 86, 75)),
 ];
 
 const LINE: f64 = 1.6;
@@ -199,7 +200,7 @@ pub(crate) fn unit(column: &str, dimension: Dimension) -> &'static str {
     let suffix = column.rsplit_once('.').map_or(column, |(_, s)| s);
     match (suffix, dimension) {
         ("time", _) => "s",
-        ("kinetic" | "spring" | "gravity" | "gas" | "total" | "contact", _) => "J",
+        ("kinetic" | "spring" | "gravity" | "gas" | "total" | "contact" | "gravitation", _) => "J",
         ("volume", Dimension::Two) => "m²",
         ("volume", Dimension::Three) => "m³",
         ("pressure", Dimension::Two) => "N/m",
