@@ -171,6 +171,42 @@ pub const DEMOS: &[Demo] = &[
         every_integrator: false,
     },
     Demo {
+        name: "pendulum",
+        about: "rod pendulums at 10° and 120°: the large swing's period is 37 % longer (elliptic integral)",
+        text: include_str!("../../../scenes/pendulum.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "double_pendulum",
+        about: "chaos: two double pendulums of rods a millimetre apart part ways within seconds",
+        text: include_str!("../../../scenes/double_pendulum.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "spring_pendulum",
+        about: "a bob on a spring swings and bounces at once, tracing a Lissajous figure",
+        text: include_str!("../../../scenes/spring_pendulum.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "orbit",
+        about: "gravitation: a planet on an eccentric Kepler orbit and a collapsing cluster of twenty",
+        text: include_str!("../../../scenes/orbit.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "walker",
+        about: "a creature of springs and muscles walking along a floor with friction",
+        text: include_str!("../../../scenes/walker.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "dice",
+        about: "rigid lattice cubes thrown with spin onto a floor and onto a gas ball",
+        text: include_str!("../../../scenes/dice.toml"),
+        every_integrator: false,
+    },
+    Demo {
         name: "oscillator",
         about: "one mass on a spring, run with every integrator (compare their energy)",
         text: include_str!("../../../scenes/oscillator.toml"),
