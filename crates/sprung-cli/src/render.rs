@@ -58,6 +58,10 @@ pub struct RenderArgs {
     /// edges; shear, bending and internal springs would hide the surface).
     #[arg(long)]
     all_springs: bool,
+    /// Draw the path of particle I (its index in the world: bodies'
+    /// particles in the order the scene gives them) up to each picture.
+    #[arg(long, value_name = "I")]
+    trace: Option<u32>,
     /// Camera position x,y,z (m); default: framed automatically.
     #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     eye: Option<Vec3>,
@@ -127,6 +131,14 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             .unwrap_or_else(|| Path::new("out").join(stem.as_ref()).join("render"));
         (snapshots, out, blow_up)
     };
+    if let (Some(i), Some(first)) = (args.trace, snapshots.first()) {
+        if i as usize >= first.position.len() {
+            return Err(CliError::Input(format!(
+                "--trace {i}: no such particle (the scene has {})",
+                first.position.len()
+            )));
+        }
+    }
     let rendered = render_to_dir(&snapshots, &out, &settings).map_err(render_error)?;
     if let Some(error) = blow_up {
         let kept = format!(
@@ -154,6 +166,7 @@ fn settings(args: &RenderArgs) -> Result<RenderSettings, CliError> {
     })?;
     settings.style.normals = args.normals;
     settings.style.all_springs = args.all_springs;
+    settings.style.trace = args.trace;
     settings.gif = args.gif;
     if let Some(fps) = args.fps {
         if !(fps.is_finite() && fps > 0.0) {

@@ -21,8 +21,8 @@ use super::scenery;
 use super::snapshot::Snapshot;
 use super::strain::StrainColours;
 use super::style::{
-    shade, Style, AMBIENT, BACK, BACKGROUND, FRONT, NORMAL, OUTLINE_FILL, PARTICLE, PIN,
-    SPRING_OVER_FACES_ALPHA,
+    phase_colour, shade, Style, AMBIENT, BACK, BACKGROUND, FRONT, NORMAL, OUTLINE_FILL, PARTICLE,
+    PIN, ROD, SPRING_OVER_FACES_ALPHA, TRACE,
 };
 use super::RenderError;
 
@@ -37,16 +37,19 @@ enum Item {
     Face(usize),
     Obstacle(usize),
     Spring(usize),
+    Rod(usize),
     Normal(usize),
 }
 
 /// Draw `snapshot` as `camera` sees it, framed for `bounds` (the floor is
-/// sized from them), in `style`.
+/// sized from them), in `style`, with `trace` (m: the path of the traced
+/// particle so far, drawn as a line; empty for none).
 pub fn draw(
     snapshot: &Snapshot,
     camera: &Camera,
     bounds: &Bounds,
     style: &Style,
+    trace: &[Vec3],
 ) -> Result<Image, RenderError> {
     let mut canvas = Canvas::new(camera.width, camera.height, BACKGROUND)?;
     let model = &*snapshot.model;
@@ -97,6 +100,12 @@ pub fn draw(
             items.push((depth - bias * a.distance(b), Item::Spring(k)));
         }
     }
+    for (k, &[i, j]) in model.rods.iter().enumerate() {
+        if let (Some(a), Some(b)) = (at(i), at(j)) {
+            let depth = 0.5 * (camera.view(a).depth + camera.view(b).depth);
+            items.push((depth - bias * a.distance(b), Item::Rod(k)));
+        }
+    }
     // Far to near; the sort is stable, so equal depths (all of a 2D scene)
     // keep the order faces, obstacles, springs.
     items.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -125,13 +134,27 @@ pub fn draw(
                     scenery::sphere(&mut canvas, camera, centre, radius);
                 }
             }
+            Item::Rod(k) => {
+                let [i, j] = model.rods[k];
+                if let (Some(a), Some(b)) = (at(i), at(j)) {
+                    if let Some((a, b)) = clip::segment(camera.view(a), camera.view(b), near) {
+                        let (a, b) = (camera.to_pixels(a), camera.to_pixels(b));
+                        canvas.line_alpha(a, b, ROD, 1.8 * style.line_width, 255);
+                    }
+                }
+            }
             Item::Spring(k) => {
                 let [i, j] = model.springs[k];
                 if let (Some(a), Some(b)) = (at(i), at(j)) {
                     let rest = model.rest_length.get(k).copied().unwrap_or(Real::NAN);
-                    let colour = style
-                        .strain
-                        .colour(StrainColours::strain(a.distance(b), rest));
+                    let phase = model.muscle_phase.get(k).copied().unwrap_or(Real::NAN);
+                    let colour = if phase.is_nan() {
+                        style
+                            .strain
+                            .colour(StrainColours::strain(a.distance(b), rest))
+                    } else {
+                        phase_colour(phase)
+                    };
                     if let Some((a, b)) = clip::segment(camera.view(a), camera.view(b), near) {
                         let (a, b) = (camera.to_pixels(a), camera.to_pixels(b));
                         let alpha = if surface.on_face(i) || surface.on_face(j) {
@@ -148,6 +171,14 @@ pub fn draw(
                 }
             }
         }
+    }
+    let path: Vec<(f32, f32)> = trace
+        .iter()
+        .filter(|p| p.is_finite())
+        .filter_map(|&p| project(p))
+        .collect();
+    for pair in path.windows(2) {
+        canvas.line_alpha(pair[0], pair[1], TRACE, style.line_width, 255);
     }
     let radius = 1.1 * style.line_width;
     for i in 0..position.len() {

@@ -128,8 +128,14 @@ pub fn render_to_dir(
         false => None,
     };
     let mut pictures = Vec::with_capacity(snapshots.len());
+    let mut trace = Vec::new();
     for (k, snapshot) in snapshots.iter().enumerate() {
-        let image = draw(snapshot, &camera, &bounds, &settings.style)?;
+        if let Some(i) = settings.style.trace {
+            if let Some(&p) = snapshot.position.get(i as usize) {
+                trace.push(p);
+            }
+        }
+        let image = draw(snapshot, &camera, &bounds, &settings.style, &trace)?;
         let path = out.join(format!("frame_{k:06}.png"));
         AtomicFile::write(&path, &image.encode_png()?).map_err(|e| RenderError::io(&path, e))?;
         pictures.push(path);

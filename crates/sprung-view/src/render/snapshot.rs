@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use sprung::{Real, Shape, Vec3, World};
+use sprung::{MuscleDrive, Real, Shape, Vec3, World};
 use sprung_io::export::VtkFrame;
 
 /// The topology drawn: shared by every snapshot of a run that keeps it.
@@ -23,6 +23,11 @@ pub struct Model {
     pub outlines: Vec<Vec<u32>>,
     /// Whether each particle is pinned (`inverse_mass == 0`).
     pub pinned: Vec<bool>,
+    /// Rigid rods as pairs of particle indices (drawn thick and dark).
+    pub rods: Vec<[u32; 2]>,
+    /// Per spring, the phase (rad) of its muscle, NaN for a plain spring
+    /// (muscles are coloured by phase); empty when unknown.
+    pub muscle_phase: Vec<Real>,
 }
 
 /// One moment of a run, ready to draw.
@@ -61,6 +66,10 @@ impl Model {
             pinned: (0..world.particles.len())
                 .map(|i| world.particles.is_pinned(i))
                 .collect(),
+            rods: (0..world.rods.len())
+                .map(|r| [world.rods.first[r], world.rods.second[r]])
+                .collect(),
+            muscle_phase: muscle_phases(world),
         }
     }
 
@@ -101,6 +110,8 @@ impl Model {
             faces,
             outlines: chain_loops(&outline_edges),
             pinned,
+            rods: Vec::new(),
+            muscle_phase: Vec::new(),
         }
     }
 }
@@ -133,6 +144,22 @@ impl Snapshot {
             colliders: Vec::new(),
         }
     }
+}
+
+/// Per spring of `world`, its muscle's phase (rad; 0 for a muscle driven
+/// by a function), NaN for a plain spring; empty without muscles.
+fn muscle_phases(world: &World) -> Vec<Real> {
+    if world.muscles.list.is_empty() {
+        return Vec::new();
+    }
+    let mut phase = vec![Real::NAN; world.springs.len()];
+    for muscle in &world.muscles.list {
+        phase[muscle.spring] = match muscle.drive {
+            MuscleDrive::Sine { phase, .. } => phase,
+            MuscleDrive::Function(_) => 0.0,
+        };
+    }
+    phase
 }
 
 /// Chain undirected edges into closed loops of particle indices. Edges

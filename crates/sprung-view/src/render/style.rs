@@ -28,6 +28,10 @@ pub const PARTICLE: Rgb = [52, 58, 72];
 pub const SPRING_OVER_FACES_ALPHA: u8 = 170;
 /// Face normals (`--normals`).
 pub const NORMAL: Rgb = [150, 40, 170];
+/// Rigid rods: dark steel, drawn thicker than springs.
+pub const ROD: Rgb = [62, 66, 84];
+/// The path of a traced particle (`--trace`).
+pub const TRACE: Rgb = [200, 30, 120];
 
 /// The fraction of a face's colour lit by ambient light alone.
 pub const AMBIENT: Real = 0.45;
@@ -47,6 +51,9 @@ pub struct Style {
     pub line_width: f32,
     /// Side of a pinned particle's square (pixels).
     pub pin_size: f32,
+    /// Draw the path of this particle (index in the world) up to each
+    /// picture.
+    pub trace: Option<u32>,
 }
 
 impl Style {
@@ -61,6 +68,7 @@ impl Style {
             all_springs: false,
             line_width,
             pin_size: (3.0 * line_width + 2.0).round(),
+            trace: None,
         }
     }
 }
@@ -69,4 +77,17 @@ impl Style {
 pub fn shade(colour: Rgb, factor: Real) -> Rgb {
     let f = factor.clamp(0.0, 1.0);
     colour.map(|c| (Real::from(c) * f).round() as u8)
+}
+
+/// The colour of a muscle of phase `phase` (rad): a hue around the colour
+/// wheel (red at 0, green at 2π/3, blue at 4π/3), so muscles that beat
+/// together share a colour.
+pub fn phase_colour(phase: Real) -> Rgb {
+    let turn = phase.rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU;
+    let channel = |offset: Real| {
+        let distance = ((turn - offset + 0.5).rem_euclid(1.0) - 0.5).abs();
+        let level = (1.0 - 3.0 * distance).clamp(0.0, 1.0);
+        (40.0 + 180.0 * level).round() as u8
+    };
+    [channel(0.0), channel(1.0 / 3.0), channel(2.0 / 3.0)]
 }
