@@ -54,6 +54,7 @@ fn scene_2d() -> Snapshot {
             faces: Vec::new(),
             outlines: vec![(0..6).collect()],
             pinned,
+            ..Model::default()
         }),
         colliders: vec![Shape::Plane {
             point: Vec3::ZERO,
@@ -107,6 +108,7 @@ fn scene_3d() -> Snapshot {
             faces,
             outlines: Vec::new(),
             pinned,
+            ..Model::default()
         }),
         colliders: vec![
             Shape::Plane {
@@ -124,7 +126,7 @@ fn scene_3d() -> Snapshot {
 fn picture(snapshot: &Snapshot, settings: &RenderSettings) -> (Image, Camera) {
     let snapshots = std::slice::from_ref(snapshot);
     let (camera, bounds) = frame_run(snapshots, settings);
-    let image = draw(snapshot, &camera, &bounds, &settings.style).expect("draws");
+    let image = draw(snapshot, &camera, &bounds, &settings.style, &[]).expect("draws");
     (image, camera)
 }
 
@@ -412,6 +414,60 @@ fn pictures_show_pins_normals_and_both_sides_of_a_sheet() {
     let mut style: Style = settings.style;
     style.normals = true;
     let bounds = Bounds::of_snapshots(std::slice::from_ref(&snapshot)).expect("bounds");
-    let with_normals = draw(&snapshot, &camera, &bounds, &style).expect("draws");
+    let with_normals = draw(&snapshot, &camera, &bounds, &style, &[]).expect("draws");
     assert_ne!(plain, with_normals, "--normals draws something");
+}
+
+/// Whether `image` has a pixel of exactly `colour`.
+fn shows(image: &Image, colour: [u8; 3]) -> bool {
+    image.rgb().chunks_exact(3).any(|p| p == colour)
+}
+
+#[test]
+fn rods_muscles_and_traces_are_drawn_in_their_own_colours() {
+    use sprung::{BodyData, MuscleData, MuscleDrive, RodData, SpringData};
+    use sprung_view::render::style::{phase_colour, ROD, TRACE};
+    // A rod 0–1, a plain spring 1–2 and a muscle 2–3 of phase π (teal:
+    // none of the strain colours, red, green or blue).
+    let mut body = BodyData::from_positions(vec![
+        Vec3::ZERO,
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+    ]);
+    body.rods.push(RodData {
+        first: 0,
+        second: 1,
+        length: None,
+    });
+    body.springs = vec![SpringData::between(1, 2), SpringData::between(2, 3)];
+    body.muscles.push(MuscleData {
+        spring: 1,
+        drive: MuscleDrive::Sine {
+            amplitude: 0.1,
+            period: 1.0,
+            phase: std::f64::consts::PI,
+        },
+    });
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    world.set_gravity(Vec3::ZERO);
+    world.add_body("parts", body).unwrap();
+    let model = Arc::new(Model::of_world(&world));
+    assert_eq!(model.rods, vec![[0, 1]]);
+    let snapshot = Snapshot::of_world(&world, &model);
+    // Lines 2 px wide (at 800 × 600) cover whole pixels in their colour.
+    let settings = RenderSettings::new(800, 600);
+    let (camera, bounds) = frame_run(std::slice::from_ref(&snapshot), &settings);
+    let trace = [Vec3::new(0.2, 0.5, 0.0), Vec3::new(0.8, 0.5, 0.0)];
+    let image = draw(&snapshot, &camera, &bounds, &settings.style, &trace).unwrap();
+    assert!(shows(&image, ROD), "no rod drawn");
+    assert!(
+        shows(&image, phase_colour(std::f64::consts::PI)),
+        "no muscle drawn"
+    );
+    assert!(shows(&image, TRACE), "no trace drawn");
+    let plain = draw(&snapshot, &camera, &bounds, &settings.style, &[]).unwrap();
+    assert!(!shows(&plain, TRACE), "a trace with none asked for");
+    // Muscles of other phases take other colours.
+    assert_ne!(phase_colour(0.0), phase_colour(std::f64::consts::PI));
 }
