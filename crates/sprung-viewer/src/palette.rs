@@ -14,6 +14,8 @@ pub const GROUND_EDGE: Color = rgb(0x8a, 0x9b, 0xb0);
 pub const PINNED: Color = rgb(0xf2, 0xc0, 0x4b);
 /// The grabbed particle and the hand's spring.
 pub const HAND: Color = rgb(0x5e, 0xe0, 0xff);
+/// Rigid rods: light steel, drawn thicker than springs.
+pub const ROD: Color = rgb(0xe6, 0xe9, 0xee);
 /// Panel text.
 pub const TEXT: Color = rgb(0xdc, 0xe3, 0xec);
 /// Quieter panel text.
@@ -73,6 +75,17 @@ pub fn mix(a: Color, b: Color, t: f32) -> Color {
 /// `c` with its brightness times `factor` and alpha `alpha`.
 pub fn shade(c: Color, factor: f32, alpha: f32) -> Color {
     Color::new(c.r * factor, c.g * factor, c.b * factor, alpha)
+}
+
+/// A muscle's colour from its phase (rad): a hue around the colour wheel,
+/// so muscles that beat together share a colour.
+pub fn muscle(phase: f64) -> Color {
+    let turn = (phase.rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU) as f32;
+    let channel = |offset: f32| {
+        let distance = ((turn - offset + 0.5).rem_euclid(1.0) - 0.5).abs();
+        0.2 + 0.75 * (1.0 - 3.0 * distance).clamp(0.0, 1.0)
+    };
+    Color::new(channel(0.0), channel(1.0 / 3.0), channel(2.0 / 3.0), 1.0)
 }
 
 #[cfg(test)]

@@ -71,6 +71,15 @@ pub fn draw(world: &World, view: &View, viewport: Rect, look: &Look) {
             palette::strain(strain, look.full_strain),
         );
     }
+    for m in &world.muscles.list {
+        let [a, b] = s.endpoints(m.spring).map(|i| x[i as usize]);
+        draw_line(a.x, a.y, b.x, b.y, 3.0, palette::muscle(m.phase()));
+    }
+    let rods = &world.rods;
+    for r in 0..rods.len() {
+        let (a, b) = (x[rods.first[r] as usize], x[rods.second[r] as usize]);
+        draw_line(a.x, a.y, b.x, b.y, 4.0, palette::ROD);
+    }
     let radius = particle_radius(world.particles.len());
     for (index, body) in world.bodies.iter().enumerate() {
         for i in body.particles.clone() {

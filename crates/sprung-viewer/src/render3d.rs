@@ -74,6 +74,15 @@ impl Renderer3d {
             });
             self.batch.spheres(spheres, 1.0, &light);
         }
+        for m in &world.muscles.list {
+            let [a, b] = world.springs.endpoints(m.spring).map(|i| x[i as usize]);
+            draw_line_3d(a, b, palette::muscle(m.phase()));
+        }
+        let rods = &world.rods;
+        for r in 0..rods.len() {
+            let (a, b) = (x[rods.first[r] as usize], x[rods.second[r] as usize]);
+            draw_line_3d(a, b, palette::ROD);
+        }
         if let Some(sphere) = poke {
             self.batch.spheres([sphere], 0.55, &light);
         }

@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use sprung::{MuscleDrive, Real, Shape, Vec3, World};
+use sprung::{Real, Shape, Vec3, World};
 use sprung_io::export::VtkFrame;
 
 /// The topology drawn: shared by every snapshot of a run that keeps it.
@@ -154,10 +154,7 @@ fn muscle_phases(world: &World) -> Vec<Real> {
     }
     let mut phase = vec![Real::NAN; world.springs.len()];
     for muscle in &world.muscles.list {
-        phase[muscle.spring] = match muscle.drive {
-            MuscleDrive::Sine { phase, .. } => phase,
-            MuscleDrive::Function(_) => 0.0,
-        };
+        phase[muscle.spring] = muscle.phase();
     }
     phase
 }

@@ -17,6 +17,17 @@ pub struct Muscle {
     pub drive: MuscleDrive,
 }
 
+impl Muscle {
+    /// The phase of its drive (rad), for drawing muscles by phase; 0 for a
+    /// drive given as a function.
+    pub fn phase(&self) -> Real {
+        match self.drive {
+            MuscleDrive::Sine { phase, .. } => phase,
+            MuscleDrive::Function(_) => 0.0,
+        }
+    }
+}
+
 /// The world's muscles.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Muscles {
