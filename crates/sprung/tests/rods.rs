@@ -70,7 +70,9 @@ fn the_rod_pendulum_keeps_the_exact_period_at_every_amplitude() {
         IntegratorKind::Verlet,
         IntegratorKind::Midpoint,
         IntegratorKind::Rk4,
+        IntegratorKind::Rk45,
         IntegratorKind::ImplicitEuler,
+        IntegratorKind::Projective,
     ] {
         for degrees in [10.0, 60.0, 120.0] {
             let amplitude = Real::to_radians(degrees);
