@@ -11,6 +11,7 @@ mod bench;
 #[global_allocator]
 static ALLOCATOR: bench::memory::Counting = bench::memory::Counting;
 mod demos;
+mod interrupt;
 mod plot;
 mod render;
 mod run;

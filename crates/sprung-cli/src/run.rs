@@ -10,6 +10,7 @@ use sprung::{Real, StepError};
 use sprung_io::export::{self, Diagnostics};
 use sprung_io::{load_scene, Scene, SceneError};
 
+use crate::interrupt::{self, Signal};
 use crate::RunOptions;
 
 /// Records per simulated second when neither the scene nor `--every` says.
@@ -30,6 +31,9 @@ pub enum CliError {
     /// The simulation blew up; what was recorded up to it was kept: the
     /// second field is the sentence that says what and where.
     BlowUp(StepError, String),
+    /// SIGINT or SIGTERM stopped the run at the end of a step; what was
+    /// recorded was kept: the sentence says where.
+    Interrupted(Signal, String),
 }
 
 impl CliError {
@@ -37,6 +41,7 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::BlowUp(..) => 3,
+            CliError::Interrupted(signal, _) => signal.exit_code(),
             CliError::Child(code, _) => u8::try_from(*code).unwrap_or(1),
             _ => 1,
         }
@@ -49,6 +54,7 @@ impl fmt::Display for CliError {
             CliError::Input(m) | CliError::Io(m) | CliError::Child(_, m) => f.write_str(m),
             CliError::Scene(e) => write!(f, "{e}"),
             CliError::BlowUp(e, kept) => write!(f, "{e}\n({kept})"),
+            CliError::Interrupted(signal, m) => write!(f, "{}: {m}", signal.name()),
         }
     }
 }
@@ -121,8 +127,26 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
             Ok(())
         };
     record(&scene.world, &mut diagnostics)?;
+    interrupt::install();
     let progress = progress_bar(steps, options.quiet);
     for step in 1..=steps {
+        if let Some(signal) = interrupt::received() {
+            progress.abandon();
+            let rows = diagnostics.rows();
+            diagnostics.finish().map_err(io)?;
+            let message = format!(
+                "stopped after step {} (t = {} s): {rows} rows in {}{}",
+                step - 1,
+                scene.world.time(),
+                out.join("diagnostics.csv").display(),
+                if frames > 0 {
+                    format!(", {frames} frames in {}", frames_dir.display())
+                } else {
+                    String::new()
+                }
+            );
+            return Err(CliError::Interrupted(signal, message));
+        }
         match scene.world.step(scene.dt) {
             Ok(report)
                 if report.unconverged && scene.world.solver_stats().unconverged_steps == 1 =>

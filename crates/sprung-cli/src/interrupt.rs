@@ -1,0 +1,82 @@
+//! SIGINT (Ctrl-C) and SIGTERM: a run stops at the end of its current step,
+//! keeps every row and frame it recorded, and exits with the conventional
+//! status 128 + the signal (130, 143). A second signal of either kind ends
+//! the process at once with that status.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, OnceLock};
+
+use signal_hook::consts::{SIGINT, SIGTERM};
+
+/// Whether a signal came, and which.
+struct Received {
+    any: Arc<AtomicBool>,
+    which: Arc<AtomicUsize>,
+}
+
+static RECEIVED: OnceLock<Option<Received>> = OnceLock::new();
+
+/// Install the handlers (once per process); `false` when the system
+/// refused them (the run then goes on without them).
+pub fn install() -> bool {
+    RECEIVED
+        .get_or_init(|| {
+            let any = Arc::new(AtomicBool::new(false));
+            let which = Arc::new(AtomicUsize::new(0));
+            for signal in [SIGINT, SIGTERM] {
+                let exit = 128 + signal as u32;
+                // The second signal: exit at once. Registered first, so it
+                // sees the flag as the earlier signal left it.
+                signal_hook::flag::register_conditional_shutdown(
+                    signal,
+                    exit as i32,
+                    Arc::clone(&any),
+                )
+                .ok()?;
+                signal_hook::flag::register(signal, Arc::clone(&any)).ok()?;
+                signal_hook::flag::register_usize(signal, Arc::clone(&which), signal as usize)
+                    .ok()?;
+            }
+            Some(Received { any, which })
+        })
+        .is_some()
+}
+
+/// The signal received since [`install`], if any.
+pub fn received() -> Option<Signal> {
+    let received = RECEIVED.get()?.as_ref()?;
+    if !received.any.load(Ordering::SeqCst) {
+        return None;
+    }
+    match received.which.load(Ordering::SeqCst) as i32 {
+        SIGTERM => Some(Signal::Terminate),
+        _ => Some(Signal::Interrupt),
+    }
+}
+
+/// A signal that stops a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Signal {
+    /// SIGINT (Ctrl-C): exit status 130.
+    Interrupt,
+    /// SIGTERM: exit status 143.
+    Terminate,
+}
+
+impl Signal {
+    /// The conventional exit status, 128 + the signal number.
+    pub fn exit_code(self) -> u8 {
+        match self {
+            Signal::Interrupt => 130,
+            Signal::Terminate => 143,
+        }
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Signal::Interrupt => "SIGINT",
+            Signal::Terminate => "SIGTERM",
+        }
+    }
+}
