@@ -16,6 +16,7 @@ mod plot;
 mod render;
 mod run;
 mod study;
+mod values;
 mod view;
 
 use std::path::PathBuf;
@@ -76,14 +77,14 @@ pub struct RunOptions {
     #[arg(long)]
     out: Option<PathBuf>,
     /// Number of steps to run (instead of the scene's duration).
-    #[arg(long, conflicts_with = "time")]
+    #[arg(long, conflicts_with = "time", value_parser = values::steps)]
     steps: Option<u64>,
     /// Simulated time to run (s), instead of the scene's duration.
-    #[arg(long)]
+    #[arg(long, value_parser = values::positive)]
     time: Option<f64>,
     /// Record a diagnostics row (and a frame) every K steps (default: the
     /// scene's `every`, else 50 records per simulated second).
-    #[arg(long)]
+    #[arg(long, value_parser = values::at_least_one)]
     every: Option<u64>,
     /// Write frames to DIR/frames in this format.
     #[arg(long)]

@@ -14,6 +14,7 @@ use sprung_view::render::{
 };
 
 use crate::run::CliError;
+use crate::values;
 
 /// Arguments of `sprung render`.
 #[derive(Debug, Args)]
@@ -26,30 +27,30 @@ pub struct RenderArgs {
     #[arg(long)]
     out: Option<PathBuf>,
     /// Steps to run a scene (instead of its duration).
-    #[arg(long, conflicts_with = "time")]
+    #[arg(long, conflicts_with = "time", value_parser = values::steps)]
     steps: Option<u64>,
     /// Simulated time to run a scene (s), instead of its duration.
-    #[arg(long)]
+    #[arg(long, value_parser = values::positive)]
     time: Option<f64>,
     /// Draw every K steps of a scene (default: 25 pictures per simulated
     /// second), or every K-th frame of a run folder (default: all).
-    #[arg(long)]
+    #[arg(long, value_parser = values::at_least_one)]
     every: Option<u64>,
     /// Picture width (pixels).
-    #[arg(long, default_value_t = 800)]
+    #[arg(long, default_value_t = 800, value_parser = values::picture_side)]
     width: u32,
     /// Picture height (pixels).
-    #[arg(long, default_value_t = 600)]
+    #[arg(long, default_value_t = 600, value_parser = values::picture_side)]
     height: u32,
     /// Also write OUT/animation.gif (looping).
     #[arg(long)]
     gif: bool,
     /// GIF playback rate (pictures per second); default: real time.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = values::positive)]
     fps: Option<f64>,
     /// Strain at which spring colours saturate: fully red stretched, fully
     /// blue compressed (a fraction: 0.1 is 10 %).
-    #[arg(long, default_value_t = 0.1, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 0.1, allow_hyphen_values = true, value_parser = values::positive)]
     strain: f64,
     /// Draw each face's outward normal.
     #[arg(long)]
@@ -70,7 +71,7 @@ pub struct RenderArgs {
     target: Option<Vec3>,
     /// Vertical field of view of the perspective camera (degrees; default:
     /// the scene's `[camera]` fov, else 40).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = values::field_of_view)]
     fov: Option<f64>,
     /// Override a scene's integrator.
     #[arg(long)]

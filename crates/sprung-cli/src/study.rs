@@ -61,10 +61,10 @@ pub struct StabilityArgs {
     #[arg(long)]
     out: Option<PathBuf>,
     /// Simulated time of each trial run (s) [default: the scene's duration, at most 2 s].
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::values::positive)]
     time: Option<f64>,
     /// Allowed rise of the total energy, as a fraction of the sum of the sizes of the energy terms at the start.
-    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true, value_parser = crate::values::positive)]
     margin: f64,
     /// Study only these integrators (repeat the option or separate with commas) [default: all].
     #[arg(long, value_delimiter = ',')]

@@ -213,16 +213,40 @@ fn missing_scene_file() {
 fn bad_options_are_refused_before_the_run() {
     let dir = tempfile::tempdir().expect("tempdir");
     write(dir.path(), "p.toml", PENDULUM);
-    for (args, message) in [
-        (vec!["--probe", "9"], "--probe 9: no such particle"),
-        (vec!["--steps", "0"], "--steps must be at least 1"),
-        (vec!["--time=-1"], "--time -1"),
-        (vec!["--every", "0"], "--every must be at least 1"),
+    // A value no run could take is a usage error (2, clap's message naming
+    // the option); a value this scene cannot take is an input error (1).
+    for (args, message, code) in [
+        (vec!["--probe", "9"], "--probe 9: no such particle", 1),
+        (
+            vec!["--steps", "0"],
+            "'--steps <STEPS>': 0 steps: from 1 to 1e12",
+            2,
+        ),
+        (
+            vec!["--steps", "1000000000000000"],
+            "1000000000000000 steps: from 1 to 1e12",
+            2,
+        ),
+        (
+            vec!["--time=-1"],
+            "'--time <TIME>': -1: must be positive",
+            2,
+        ),
+        (
+            vec!["--time", "nan"],
+            "'--time <TIME>': NaN: must be positive",
+            2,
+        ),
+        (
+            vec!["--every", "0"],
+            "'--every <EVERY>': must be at least 1",
+            2,
+        ),
     ] {
         let mut all = vec!["run", "p.toml", "--out", "o"];
         all.extend(args);
         let output = sprung(&all, dir.path());
-        assert_eq!(output.status.code(), Some(1), "{all:?}");
+        assert_eq!(output.status.code(), Some(code), "{all:?}");
         assert!(
             text(&output.stderr).contains(message),
             "{}",

@@ -175,9 +175,18 @@ fn rendering_twice_gives_the_same_bytes() {
 /// Runs `args` in `dir`, expects exit status 1 with `needle` in the error,
 /// and nothing written to `out`.
 fn refused(args: &[&str], dir: &Path, needle: &str) {
+    refused_with(1, args, dir, needle);
+}
+
+/// Like [`refused`], for a malformed value of an option: exit status 2.
+fn malformed(args: &[&str], dir: &Path, needle: &str) {
+    refused_with(2, args, dir, needle);
+}
+
+fn refused_with(code: i32, args: &[&str], dir: &Path, needle: &str) {
     let output = sprung(args, dir);
     let stderr = text(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+    assert_eq!(output.status.code(), Some(code), "{args:?}: {stderr}");
     assert!(
         stderr.contains(needle),
         "{args:?}: expected {needle:?} in {stderr}"
@@ -201,29 +210,38 @@ fn errors_name_the_path_and_write_nothing() {
         d,
         "no VTK frames in empty/frames",
     );
-    for (width, height) in [("0", "600"), ("800", "0"), ("100000", "600")] {
-        refused(
+    for (width, height, bad) in [
+        ("0", "600", "0"),
+        ("800", "0", "0"),
+        ("100000", "600", "100000"),
+    ] {
+        malformed(
             &[
                 "render", "s.toml", "--width", width, "--height", height, "--out", "o",
             ],
             d,
-            "bad picture size",
+            &format!("{bad} pixels: from 8 to 8192"),
         );
     }
-    refused(
+    malformed(
         &["render", "s.toml", "--strain", "-0.1", "--out", "o"],
         d,
-        "--strain -0.1",
+        "'--strain <STRAIN>': -0.1: must be positive",
     );
-    refused(
+    malformed(
         &["render", "s.toml", "--fps", "0", "--out", "o"],
         d,
-        "--fps 0",
+        "'--fps <FPS>': 0: must be positive",
     );
-    refused(
+    malformed(
         &["render", "s.toml", "--every", "0", "--out", "o"],
         d,
-        "--every",
+        "'--every <EVERY>': must be at least 1",
+    );
+    malformed(
+        &["render", "s.toml", "--fov", "0", "--out", "o"],
+        d,
+        "'--fov <FOV>': 0: must be between 0 and 180",
     );
     refused(
         &[

@@ -1,0 +1,53 @@
+//! Parsers of command-line values, so that a malformed value is a usage
+//! error (exit status 2, with clap's message naming the option) before
+//! anything runs, like an unparsable one.
+
+use sprung_io::scene::MAX_STEPS;
+use sprung_view::render::{MAX_SIZE, MIN_SIZE};
+
+/// A step count: 1 to [`MAX_STEPS`], the limit of the scene key `steps`.
+pub fn steps(text: &str) -> Result<u64, String> {
+    let n: u64 = text
+        .parse()
+        .map_err(|_| format!("`{text}` is not a whole number of steps"))?;
+    if n == 0 || n > MAX_STEPS {
+        return Err(format!("{n} steps: from 1 to {MAX_STEPS:.0e}"));
+    }
+    Ok(n)
+}
+
+/// A count of at least 1 (`--every`).
+pub fn at_least_one(text: &str) -> Result<u64, String> {
+    match text.parse::<u64>() {
+        Ok(n) if n >= 1 => Ok(n),
+        Ok(_) => Err("must be at least 1".into()),
+        Err(_) => Err(format!("`{text}` is not a whole number")),
+    }
+}
+
+/// A positive, finite number (a time in s, a rate, a strain, a margin).
+pub fn positive(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        Ok(x) => Err(format!("{x}: must be positive and finite")),
+        Err(_) => Err(format!("`{text}` is not a number")),
+    }
+}
+
+/// A field of view strictly between 0 and 180 degrees.
+pub fn field_of_view(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 && x < 180.0 => Ok(x),
+        Ok(x) => Err(format!("{x}: must be between 0 and 180 degrees")),
+        Err(_) => Err(format!("`{text}` is not a number")),
+    }
+}
+
+/// A picture side of [`MIN_SIZE`] to [`MAX_SIZE`] pixels.
+pub fn picture_side(text: &str) -> Result<u32, String> {
+    match text.parse::<u32>() {
+        Ok(n) if (MIN_SIZE..=MAX_SIZE).contains(&n) => Ok(n),
+        Ok(n) => Err(format!("{n} pixels: from {MIN_SIZE} to {MAX_SIZE}")),
+        Err(_) => Err(format!("`{text}` is not a whole number of pixels")),
+    }
+}
