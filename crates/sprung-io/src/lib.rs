@@ -8,6 +8,7 @@
 
 pub mod demos;
 pub mod export;
+pub mod input;
 pub mod mesh;
 pub mod scene;
 

@@ -81,8 +81,8 @@ impl MeshFormat {
 /// extension (`asc`, `obj`, `off`, `stl`, any case).
 pub fn load_mesh_file(path: &Path) -> Result<Vec<TriangleMesh>, MeshError> {
     let format = MeshFormat::from_path(path)?;
-    let bytes =
-        std::fs::read(path).map_err(|e| MeshError::new(path, MeshErrorKind::Io(e.to_string())))?;
+    let bytes = crate::input::read_input(path)
+        .map_err(|e| MeshError::new(path, MeshErrorKind::Io(e.to_string())))?;
     parse_mesh(&bytes, format, path)
 }
 

@@ -65,9 +65,28 @@ pub struct SceneCamera {
 
 /// Read and build the scene file at `path`.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path)
+    let bytes = crate::input::read_input(path)
         .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
-    parse_scene(&text, path)
+    let text = scene_text(&bytes, path)?;
+    parse_scene(text, path)
+}
+
+/// The scene file's bytes as text; not UTF-8 is refused with the line
+/// and the byte (in that line) of the first bad byte.
+fn scene_text<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str, SceneError> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let good = &bytes[..e.valid_up_to()];
+        let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
+        let column = good.len() - good.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1) + 1;
+        SceneError::new(
+            path,
+            None,
+            format!(
+                "line {line}, byte {column}: the scene file is not UTF-8 text (byte 0x{:02x})",
+                bytes[e.valid_up_to()]
+            ),
+        )
+    })
 }
 
 /// Where the files a scene refers to (meshes) are read from: the disk, or,
@@ -83,7 +102,7 @@ pub struct Disk;
 
 impl FileSource for Disk {
     fn read(&self, path: &Path) -> std::io::Result<Vec<u8>> {
-        std::fs::read(path)
+        crate::input::read_input(path)
     }
 }
 

@@ -1,0 +1,92 @@
+//! Inputs that could exhaust the machine are refused before they are read:
+//! devices (also behind a link), files over the size limit; a scene that is
+//! not UTF-8 is refused with the line and byte of its first bad byte.
+
+mod common;
+
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use common::{text, write};
+
+/// Run `sprung` with `args` in `dir` (and `env`), expecting exit status 1
+/// within a second with `needle` in the error, and nothing written.
+fn refused_at_once(dir: &std::path::Path, args: &[&str], env: &[(&str, &str)], needle: &str) {
+    let start = Instant::now();
+    let output = Command::new(env!("CARGO_BIN_EXE_sprung"))
+        .args(args)
+        .envs(env.iter().copied())
+        .current_dir(dir)
+        .output()
+        .expect("sprung runs");
+    let stderr = text(&output.stderr);
+    assert!(
+        start.elapsed() < Duration::from_secs(1),
+        "{args:?} took {:?}",
+        start.elapsed()
+    );
+    assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+    assert!(stderr.contains(needle), "{args:?}: {stderr}");
+    assert!(!dir.join("o").exists(), "{args:?} wrote output");
+}
+
+#[test]
+fn devices_are_not_read_even_behind_a_link() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    refused_at_once(
+        d,
+        &["run", "/dev/zero", "--out", "o"],
+        &[],
+        "not a regular file",
+    );
+    std::os::unix::fs::symlink("/dev/zero", d.join("zero.obj")).unwrap();
+    write(
+        d,
+        "mesh.toml",
+        "[sim]\ndt = 1e-3\nsteps = 2\n\n[[body]]\nname = \"h\"\nmesh = \"zero.obj\"\n",
+    );
+    refused_at_once(
+        d,
+        &["run", "mesh.toml", "--out", "o"],
+        &[],
+        "zero.obj: cannot read the file: not a regular file",
+    );
+}
+
+#[test]
+fn files_over_the_size_limit_are_refused_with_the_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = "[sim]\ndt = 1e-3\nsteps = 2\n\n[[body]]\nname = \"p\"\nparticles = [[0.0, 0.0]]\n";
+    write(d, "s.toml", scene);
+    let size = scene.len().to_string();
+    let limit = (scene.len() - 1).to_string();
+    refused_at_once(
+        d,
+        &["run", "s.toml", "--out", "o"],
+        &[("SPRUNG_MAX_INPUT_BYTES", &limit)],
+        &format!("{size} bytes is more than the {limit} bytes an input file may have"),
+    );
+    // At the limit it runs.
+    let output = Command::new(env!("CARGO_BIN_EXE_sprung"))
+        .args(["run", "s.toml", "--out", "o", "--quiet"])
+        .env("SPRUNG_MAX_INPUT_BYTES", &size)
+        .current_dir(d)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", text(&output.stderr));
+}
+
+#[test]
+fn a_scene_that_is_not_utf8_names_the_line_and_byte() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("latin1.toml"), b"[sim]\ndt = 1e-3\n# caf\xe9\n").unwrap();
+    refused_at_once(
+        d,
+        &["run", "latin1.toml", "--out", "o"],
+        &[],
+        "latin1.toml: line 3, byte 6: the scene file is not UTF-8 text (byte 0xe9)",
+    );
+}

@@ -1,0 +1,56 @@
+//! Reading input files within a budget: only regular files (not a device
+//! such as `/dev/zero`, a pipe or a folder, also behind a link), and at
+//! most [`max_input_bytes`], so that no input can exhaust memory before it
+//! is refused.
+
+use std::io::Read;
+use std::path::Path;
+
+/// The largest input file read by default (bytes): 256 MiB, far above
+/// any scene or mesh the demos use (the 4002-vertex horse is 0.3 MB).
+pub const DEFAULT_MAX_INPUT_BYTES: u64 = 256 << 20;
+
+/// The environment variable that overrides [`DEFAULT_MAX_INPUT_BYTES`]
+/// (a number of bytes).
+pub const MAX_INPUT_VARIABLE: &str = "SPRUNG_MAX_INPUT_BYTES";
+
+/// The size limit of input files (bytes): `SPRUNG_MAX_INPUT_BYTES` when it
+/// is a whole number, else [`DEFAULT_MAX_INPUT_BYTES`].
+pub fn max_input_bytes() -> u64 {
+    std::env::var(MAX_INPUT_VARIABLE)
+        .ok()
+        .and_then(|v| v.trim().parse().ok())
+        .unwrap_or(DEFAULT_MAX_INPUT_BYTES)
+}
+
+/// The bytes of the regular file at `path`, refused (with a sentence that
+/// says why and the figures) when it is not a regular file or is larger
+/// than [`max_input_bytes`].
+pub fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
+    let limit = max_input_bytes();
+    let metadata = std::fs::metadata(path)?;
+    if !metadata.is_file() {
+        return Err(std::io::Error::other(
+            "not a regular file (a device, pipe or folder is not read)",
+        ));
+    }
+    let too_large = |size: u64| {
+        std::io::Error::other(format!(
+            "{size} bytes is more than the {limit} bytes an input file may have \
+             (set {MAX_INPUT_VARIABLE} to raise the limit)"
+        ))
+    };
+    if metadata.len() > limit {
+        return Err(too_large(metadata.len()));
+    }
+    // Read at most one byte more than the limit: a file that grew since is
+    // refused too.
+    let mut bytes = Vec::with_capacity(metadata.len() as usize);
+    std::fs::File::open(path)?
+        .take(limit + 1)
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
