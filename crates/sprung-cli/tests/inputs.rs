@@ -90,3 +90,33 @@ fn a_scene_that_is_not_utf8_names_the_line_and_byte() {
         "latin1.toml: line 3, byte 6: the scene file is not UTF-8 text (byte 0xe9)",
     );
 }
+
+#[test]
+fn numbers_that_would_overflow_are_refused_at_load() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let head = "[sim]\ndt = 1e-3\nsteps = 3\n\n[[body]]\nname = \"b\"\n";
+    for (body, needle) in [
+        // A particle at 1e200 m once gave `spring = inf` on the first row.
+        (
+            "particles = [[1e200, 0.0], [1e200, 1.0]]\nsprings = [[0, 1]]\n",
+            "`particles`[0]: 1.000e200 is beyond the world's limit 1.000e6",
+        ),
+        (
+            "particles = [[0.0, 0.0]]\nvelocity = [1e7, 0.0]\n",
+            "`velocities`[0]: 1.000e7 is beyond the world's limit 1.000e6",
+        ),
+        // A mass of 1e307 kg once gave `gravity = inf` in every row.
+        (
+            "particles = [[0.0, 0.0]]\nmass = 1e307\n",
+            "`masses`[0] = 1.000e307: too large",
+        ),
+        (
+            "particles = [[0.0, 0.0], [1.0, 0.0]]\nsprings = [[0, 1]]\nstiffness = 1e300\n",
+            "`stiffness`[0] = 1.000e300: too large",
+        ),
+    ] {
+        write(d, "s.toml", &format!("{head}{body}"));
+        refused_at_once(d, &["run", "s.toml", "--out", "o"], &[], needle);
+    }
+}

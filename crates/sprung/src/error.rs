@@ -208,6 +208,31 @@ pub enum BuildError {
         /// The first problem found.
         problem: SurfaceProblem,
     },
+    /// A particle starting beyond the blow-up limits of the world.
+    #[error("`{field}`[{index}]: {value:.3e} is beyond the world's limit {limit:.3e} (`max_distance` in m, `max_speed` in m/s, in [sim]): the run would stop at once")]
+    BeyondLimit {
+        /// `particles` (distance from the origin) or `velocities` (speed).
+        field: &'static str,
+        /// The particle.
+        index: usize,
+        /// Its distance (m) or speed (m/s).
+        value: Real,
+        /// The limit (m or m/s).
+        limit: Real,
+    },
+    /// A mass or stiffness so large that an energy of the run would
+    /// overflow the numbers written.
+    #[error("`{field}`[{index}] = {value:.3e}: too large, its energy within the world's limits (`max_distance`, `max_speed` in [sim]) could exceed the {ENERGY_LIMIT:.0e} J the diagnostics can sum")]
+    EnergyOverflow {
+        /// `masses` or `stiffness`.
+        field: &'static str,
+        /// The particle or spring.
+        index: usize,
+        /// The mass (kg) or stiffness (N/m).
+        value: Real,
+        /// The energy it could reach (J; may be infinite).
+        energy: Real,
+    },
     /// A body name that is empty or would break the columns of
     /// `diagnostics.csv` (a comma, a quote or a line break).
     #[error("body name {0:?}: a name must be non-empty, without commas, quotes or line breaks")]
@@ -216,6 +241,10 @@ pub enum BuildError {
     #[error("a body named \"{0}\" already exists: body names must be unique")]
     DuplicateName(String),
 }
+
+/// The largest energy (J) one particle or spring may reach within the
+/// world's limits: sums of up to a billion such terms stay finite.
+pub const ENERGY_LIMIT: Real = 1e290;
 
 /// Why an implicit solver could not take a step.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -279,10 +308,12 @@ pub enum StepError {
 
 /// What to do about a blow-up at time step `dt` given the stable estimate.
 fn advice(dt: Real, stable_dt: Real) -> String {
-    if dt > stable_dt {
-        format!("the time step dt = {dt} s is too large for these springs and masses: a stable estimate is dt <= {stable_dt:.3e} s")
+    if !stable_dt.is_finite() {
+        format!("nothing in the scene limits the time step dt = {dt:e} s (no springs or contacts), so look at the forces and the starting state")
+    } else if dt > stable_dt {
+        format!("the time step dt = {dt:e} s is too large for these springs and masses: a stable estimate is dt <= {stable_dt:.3e} s")
     } else {
-        format!("the time step dt = {dt} s is already below the stable estimate {stable_dt:.3e} s, so look at the forces (one-sided springs need critical damping; explicit Euler gains energy at any dt)")
+        format!("the time step dt = {dt:e} s is already below the stable estimate {stable_dt:.3e} s, so look at the forces (one-sided springs need critical damping; explicit Euler gains energy at any dt)")
     }
 }
 

@@ -231,6 +231,7 @@ impl World {
     /// index. Nothing is added when the body is refused.
     pub fn add_body(&mut self, name: &str, data: BodyData) -> Result<usize, BuildError> {
         data.validate()?;
+        self.check_limits(&data)?;
         if name.is_empty() || name.contains([',', '"', '\n', '\r']) {
             return Err(BuildError::BadName(name.to_string()));
         }
@@ -313,6 +314,59 @@ impl World {
         orient_outward(&mut body, &self.particles.position);
         self.bodies.push(body);
         Ok(self.bodies.len() - 1)
+    }
+
+    /// Refuse a body that starts beyond the blow-up limits, or whose masses
+    /// or stiffnesses would give energies that overflow within them.
+    fn check_limits(&self, data: &BodyData) -> Result<(), BuildError> {
+        let limits = &self.settings;
+        let g = self.gravity().length();
+        for (index, x) in data.position.iter().enumerate() {
+            let value = magnitude(*x);
+            if value > limits.max_distance {
+                return Err(BuildError::BeyondLimit {
+                    field: "particles",
+                    index,
+                    value,
+                    limit: limits.max_distance,
+                });
+            }
+        }
+        for (index, v) in data.velocity.iter().enumerate() {
+            let value = magnitude(*v);
+            if value > limits.max_speed {
+                return Err(BuildError::BeyondLimit {
+                    field: "velocities",
+                    index,
+                    value,
+                    limit: limits.max_speed,
+                });
+            }
+        }
+        let overflow = |field, index, value: Real, energy: Real| {
+            (energy.is_nan() || energy >= crate::error::ENERGY_LIMIT).then_some(
+                BuildError::EnergyOverflow {
+                    field,
+                    index,
+                    value,
+                    energy,
+                },
+            )
+        };
+        for (index, &m) in data.mass.iter().enumerate() {
+            let energy = m * (g * limits.max_distance + 0.5 * limits.max_speed.powi(2));
+            if let Some(error) = overflow("masses", index, m, energy) {
+                return Err(error);
+            }
+        }
+        for (index, s) in data.springs.iter().enumerate() {
+            let reach = 2.0 * limits.max_distance;
+            let energy = 0.5 * s.stiffness * reach * reach;
+            if let Some(error) = overflow("stiffness", index, s.stiffness, energy) {
+                return Err(error);
+            }
+        }
+        Ok(())
     }
 
     /// The body called `name`, if any.
@@ -540,9 +594,9 @@ impl World {
             if !(x.is_finite() && v.is_finite()) {
                 Some(BlowUpReason::NonFinite)
             } else if x.length_squared() > limits.max_distance.powi(2) {
-                Some(BlowUpReason::TooFar(x.length()))
+                Some(BlowUpReason::TooFar(magnitude(x)))
             } else if v.length_squared() > limits.max_speed.powi(2) {
-                Some(BlowUpReason::TooFast(v.length()))
+                Some(BlowUpReason::TooFast(magnitude(v)))
             } else {
                 None
             }
@@ -655,6 +709,21 @@ impl World {
             &self.colliders,
             &self.contacts,
         )
+    }
+}
+
+/// `|x|` for a finite `x`, finite even where `|x|²` overflows (the
+/// largest component when `|x|` itself would).
+fn magnitude(x: Vec3) -> Real {
+    let largest = x.abs().max_element();
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
+    let length = largest * (x / largest).length();
+    if length.is_finite() {
+        length
+    } else {
+        largest
     }
 }
 

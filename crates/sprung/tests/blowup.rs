@@ -233,3 +233,22 @@ fn the_blow_up_message_names_the_body_of_the_particle() {
         "{message}"
     );
 }
+
+#[test]
+fn a_runaway_at_the_edge_of_the_numbers_is_reported_without_inf() {
+    // A lone particle (nothing stiff: the stable estimate is infinite)
+    // whose speed is set to 1e308 m/s along two axes: |v|² overflows, |v|
+    // would be 1.4e308, still finite. The message gives finite figures
+    // and no `inf`.
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    world.set_gravity(Vec3::ZERO);
+    world
+        .add_body("p", BodyData::from_positions(vec![Vec3::ZERO]))
+        .unwrap();
+    world.particles.velocity[0] = Vec3::new(1e308, 1e308, 0.0);
+    // A step of 1e-303 s keeps it within max_distance (1.4e5 m).
+    let error = world.step(1e-303).unwrap_err();
+    let message = error.to_string();
+    assert!(message.contains("ran away at 1.414e308 m/s"), "{message}");
+    assert!(!message.contains("inf"), "{message}");
+}

@@ -451,6 +451,7 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::RodIndexOutOfRange { .. } | BuildError::BadRodLength { .. } => "rods",
         BuildError::MuscleSpringOutOfRange { .. } | BuildError::BadMuscle { .. } => "muscles",
         BuildError::RigidTooSmall | BuildError::RigidPinned => "rigid",
+        BuildError::BeyondLimit { field, .. } | BuildError::EnergyOverflow { field, .. } => field,
     }
 }
 
