@@ -214,8 +214,31 @@ fn run_scene(
         Some(k) => k,
         None => steps_between_pictures(scene.dt, DEFAULT_PICTURE_RATE),
     };
+    // The snapshots are kept until drawn: refuse a run whose pictures
+    // would not fit in memory before stepping it.
+    let pictures = steps / every + 2;
+    let bytes = pictures as f64 * snapshot_bytes(&scene.world) as f64;
+    if bytes > MAX_SNAPSHOT_BYTES as f64 {
+        return Err(CliError::Input(format!(
+            "{} pictures of {} particles would keep {:.1} GB in memory, more than the {:.1} GB `sprung render` allows: draw fewer (--every, --time, --steps)",
+            pictures,
+            scene.world.particles.len(),
+            bytes / 1e9,
+            MAX_SNAPSHOT_BYTES as f64 / 1e9
+        )));
+    }
     let recording = record(&mut scene.world, scene.dt, steps, every);
     Ok((recording.snapshots, recording.blow_up, scene.camera))
+}
+
+/// Most memory the snapshots of a rendered scene may take (bytes): 2 GB.
+const MAX_SNAPSHOT_BYTES: u64 = 2_000_000_000;
+
+/// Memory of one snapshot of `world` (bytes): its positions and colliders.
+fn snapshot_bytes(world: &sprung::World) -> u64 {
+    let position = size_of::<Vec3>() as u64;
+    let collider = size_of::<sprung::Shape>() as u64;
+    world.particles.len() as u64 * position + world.colliders.len() as u64 * collider + 64
 }
 
 fn render_error(error: RenderError) -> CliError {

@@ -120,3 +120,41 @@ fn numbers_that_would_overflow_are_refused_at_load() {
         refused_at_once(d, &["run", "s.toml", "--out", "o"], &[], needle);
     }
 }
+
+#[test]
+fn work_beyond_the_budgets_is_refused_with_the_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scenes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let flag = scenes.join("flag.toml");
+    // `render` would keep a billion pictures in memory.
+    refused_at_once(
+        d,
+        &[
+            "render",
+            flag.to_str().unwrap(),
+            "--steps",
+            "1000000000",
+            "--out",
+            "o",
+        ],
+        &[],
+        "pictures of 600 particles would keep",
+    );
+    // refine = 5 on the 8000-triangle horse: 8.2 million triangles.
+    let horse = scenes.join("meshes/horse.obj");
+    write(
+        d,
+        "h.toml",
+        &format!(
+            "[sim]\ndt = 1e-4\nsteps = 2\n\n[[body]]\nname = \"h\"\nmesh = {:?}\nrefine = 5\n",
+            horse.to_str().unwrap()
+        ),
+    );
+    refused_at_once(
+        d,
+        &["run", "h.toml", "--out", "o"],
+        &[],
+        "`refine` = 5 would make 8.19e6 triangles",
+    );
+}

@@ -40,6 +40,10 @@ use crate::mesh;
 /// Spring stiffness when a body gives none (N/m).
 pub const DEFAULT_STIFFNESS: f64 = 100.0;
 
+/// Most triangles a mesh body may have after `refine` (a million: about
+/// half a million particles and three million springs, some 300 MB).
+pub const MAX_REFINED_TRIANGLES: usize = 1_000_000;
+
 /// Most levels of `refine` on a mesh body.
 pub const MAX_REFINE: usize = 5;
 
@@ -255,6 +259,17 @@ fn mesh_body(table: &BodyTable, path: &Path, files: &dyn FileSource) -> Result<B
     let levels = table.refine.unwrap_or(0);
     if levels > MAX_REFINE {
         return Err(("refine", format!("`refine` = {levels}: at most {MAX_REFINE} (each level makes four times the triangles)")));
+    }
+    let triangles = faces.len() as f64 * 4f64.powi(levels as i32);
+    if triangles > MAX_REFINED_TRIANGLES as f64 {
+        return Err((
+            "refine",
+            format!(
+                "`refine` = {levels} would make {triangles:.2e} triangles (about {:.2e} particles) of this mesh's {}: at most {MAX_REFINED_TRIANGLES:.0e} (refine less)",
+                triangles / 2.0,
+                faces.len()
+            ),
+        ));
     }
     for _ in 0..levels {
         faces = build::refine(&mut position, &faces);
