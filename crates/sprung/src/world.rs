@@ -38,6 +38,11 @@ use crate::springs::Springs;
 use crate::surface;
 use crate::{Real, Vec3};
 
+/// The approach speed (m/s) below which a rigid body's contact with a
+/// collider rests instead of bouncing (engines use such a threshold:
+/// Box2D's is 1 m/s); a drop from 0.5 mm lands this fast.
+pub const RESTING_SPEED: Real = 0.1;
+
 /// Most substeps [`Substeps::Auto`] splits a step into.
 pub const MAX_SUBSTEPS: u32 = 1_000_000;
 
@@ -458,18 +463,21 @@ impl World {
             constraints.iterations,
             &mut self.rod_scratch,
         );
-        let rest_speed = 2.0
-            * dt
-            * self
-                .forces
-                .get::<Gravity>()
-                .map_or(0.0, |g| g.acceleration.length());
+        // Below this approach speed a rigid body's contact rests rather
+        // than bounces: two steps of gravity, and at least RESTING_SPEED
+        // (a body rocking on a face would otherwise bounce for ever).
+        let gravity = self
+            .forces
+            .get::<Gravity>()
+            .map_or(0.0, |g| g.acceleration.length());
+        let rest_speed = (2.0 * dt * gravity).max(RESTING_SPEED);
         self.rigid.project(
             position,
             velocity,
             mass,
             &self.colliders,
             self.time,
+            dt,
             rest_speed,
         );
     }
@@ -799,16 +807,20 @@ impl Derivative for Dynamics<'_> {
 
     fn contact_constraints(&self, state: State, dt: Real, out: &mut Vec<ContactConstraint>) {
         out.clear();
-        for collider in self.frame.colliders {
-            collide::add_contact_constraints(
-                collider,
-                state.time + dt,
-                dt,
-                state.position,
-                state.velocity,
-                self.frame.inverse_mass,
-                out,
-            );
+        // Rigid bodies meet the colliders as bodies, after the step.
+        for body in self.frame.bodies.iter().filter(|b| !b.rigid) {
+            for collider in self.frame.colliders {
+                collide::add_contact_constraints(
+                    collider,
+                    state.time + dt,
+                    dt,
+                    body.particles.clone(),
+                    state.position,
+                    state.velocity,
+                    self.frame.inverse_mass,
+                    out,
+                );
+            }
         }
     }
 

@@ -37,14 +37,42 @@ fn angular_momentum(world: &World) -> Vec3 {
         .sum()
 }
 
+/// The angular velocity (rad/s) of a rigid world's one body: from two
+/// particles' velocities relative to the centre, `ω = I⁻¹ L` with the
+/// inertia of the particles.
+fn spin_of(world: &World) -> Vec3 {
+    let p = &world.particles;
+    let total: Real = p.mass.iter().sum();
+    let centre: Vec3 = p
+        .position
+        .iter()
+        .zip(&p.mass)
+        .map(|(&x, &m)| m * x)
+        .sum::<Vec3>()
+        / total;
+    let mut inertia = glam::DMat3::ZERO;
+    for (&x, &m) in p.position.iter().zip(&p.mass) {
+        let r = x - centre;
+        inertia += m
+            * (glam::DMat3::from_diagonal(Vec3::splat(r.length_squared()))
+                - glam::DMat3::from_cols(r * r.x, r * r.y, r * r.z));
+    }
+    inertia.inverse() * angular_momentum(world)
+}
+
 #[test]
 fn a_spinning_rigid_body_keeps_its_shape_and_angular_momentum() {
-    // Spin about an axis that is not a principal one, plus a drift: the
-    // angular velocity then wanders (the body tumbles) but L stays.
-    let mut body = cube();
+    // A 4×3×2 brick (three different moments of inertia) spun about an
+    // axis that is not a principal one, plus a drift: its angular velocity
+    // wanders (it tumbles) while L stays.
+    let mut body = build::lattice(4, 3, 2, 0.1)
+        .unwrap()
+        .with_total_mass(1.0)
+        .with_stiffness(500.0);
+    body.rigid = true;
     let spin = Vec3::new(3.0, 1.0, -2.0);
     let drift = Vec3::new(0.5, 0.0, 0.2);
-    let centre = Vec3::splat(0.1);
+    let centre = Vec3::new(0.15, 0.1, 0.05);
     body.velocity = body
         .position
         .iter()
@@ -57,12 +85,20 @@ fn a_spinning_rigid_body_keeps_its_shape_and_angular_momentum() {
     ] {
         let mut world = World::new(kind);
         world.set_gravity(Vec3::ZERO);
-        world.add_body("cube", body.clone()).unwrap();
+        world.add_body("brick", body.clone()).unwrap();
         let rest: Vec<Vec3> = world.particles.position.clone();
         let momentum = angular_momentum(&world);
         for _ in 0..2000 {
             world.step(1e-3).unwrap();
         }
+        // ω = I⁻¹ L has moved away from its start (by more than a tenth of
+        // its size): the body tumbles, so keeping L is not keeping ω.
+        let turned = spin_of(&world);
+        assert!(
+            (turned - spin).length() > 0.1 * spin.length(),
+            "{}: ω stayed at {turned}",
+            kind.name()
+        );
         let x = &world.particles.position;
         // Every pairwise distance to rounding: the positions are the rest
         // shape turned by a unit quaternion, 1e-9 relative is a million
@@ -193,4 +229,98 @@ fn a_rigid_cube_lands_on_a_gas_ball_without_entering_it() {
     // at about 0.25 s) and is held there, not passed through to the floor
     // (later it rolls off the round top, as it should).
     assert!(lowest_cube > 0.6, "the cube sank to {lowest_cube} m");
+}
+
+/// A rigid cube on a floor (restitution `restitution`, friction
+/// `friction`) under `kind`, its lowest face at `height` (m), moving at
+/// `velocity` (m/s).
+fn cube_over_floor(
+    kind: IntegratorKind,
+    height: Real,
+    velocity: Vec3,
+    restitution: Real,
+    friction: Real,
+) -> World {
+    let mut body = cube().placed(1.0, Vec3::ZERO, Vec3::new(0.0, height, 0.0));
+    body.velocity = vec![velocity; body.position.len()];
+    let mut world = World::new(kind);
+    world.add_body("cube", body).unwrap();
+    let floor = Shape::plane(Vec3::ZERO, Vec3::Y).unwrap();
+    let response = ContactResponse::Projection {
+        restitution,
+        friction,
+    };
+    world
+        .colliders
+        .push(Collider::new(floor, response).unwrap());
+    world
+}
+
+fn centre_of(world: &World) -> Vec3 {
+    world.particles.position.iter().sum::<Vec3>() / world.particles.len() as Real
+}
+
+#[test]
+fn a_rigid_cube_bounces_with_its_restitution_under_every_integrator() {
+    // Dropped flat from 0.5 m with restitution 0.8: it leaves the floor at
+    // 0.8 of its landing speed, so it rises to 0.8² × 0.5 = 0.32 m. One
+    // step of landing (the impulse comes at the end of the step that
+    // reaches the floor) costs up to g dt² ~ 1e-5 m here; 3 % allows for
+    // the landing step's own error in height, dt v / h = 1e-3 · 3 / 0.1.
+    for kind in [
+        IntegratorKind::SymplecticEuler,
+        IntegratorKind::Rk4,
+        IntegratorKind::Verlet,
+        IntegratorKind::ImplicitEuler,
+        IntegratorKind::Projective,
+    ] {
+        let mut world = cube_over_floor(kind, 0.5, Vec3::ZERO, 0.8, 0.0);
+        let (mut landed, mut highest) = (false, 0.0);
+        for _ in 0..1200 {
+            world.step(1e-3).unwrap();
+            let low = world
+                .particles
+                .position
+                .iter()
+                .map(|x| x.y)
+                .fold(Real::INFINITY, Real::min);
+            let rising = world.particles.velocity[0].y > 0.0;
+            landed |= rising;
+            if landed {
+                highest = Real::max(highest, low);
+            }
+        }
+        assert!(
+            (highest - 0.32).abs() <= 0.03 * 0.32,
+            "{}: rebounded to {highest} m, expected 0.32 m",
+            kind.name()
+        );
+    }
+}
+
+#[test]
+fn a_sliding_rigid_cube_stops_where_coulomb_friction_says() {
+    // Sliding at 2 m/s on a floor with μ = 0.5: it decelerates at μ g and
+    // stops after v / (μ g) = 0.408 s, having slid v² / (2 μ g) = 0.408 m,
+    // at any step size (within one step's travel, 2e-3 m at 1e-3 s).
+    let (speed, mu, g) = (2.0, 0.5, 9.81);
+    let expected = speed * speed / (2.0 * mu * g);
+    for dt in [1e-3, 1e-4] {
+        let mut world = cube_over_floor(
+            IntegratorKind::SymplecticEuler,
+            0.0,
+            Vec3::new(speed, 0.0, 0.0),
+            0.0,
+            mu,
+        );
+        let start = centre_of(&world);
+        for _ in 0..(1.0 / dt) as usize {
+            world.step(dt).unwrap();
+        }
+        let slid = centre_of(&world).x - start.x;
+        assert!(
+            (slid - expected).abs() <= 2.0 * speed * dt + 1e-3 * expected,
+            "dt = {dt}: slid {slid} m, Coulomb says {expected} m"
+        );
+    }
 }

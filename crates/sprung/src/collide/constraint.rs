@@ -29,6 +29,8 @@
 //! the mass ([`ContactConstraint::normal_change`]; `g dt` for a particle at
 //! rest on a floor), as the projection stage does.
 
+use std::ops::Range;
+
 use super::{Collider, ContactResponse};
 use crate::{Real, Vec3};
 
@@ -83,16 +85,18 @@ pub(super) fn coulomb(tangential: Vec3, slowdown: Real) -> Vec3 {
     }
 }
 
-/// Add to `out` the constraints of the movable particles (`inverse_mass >
+/// Add to `out` the constraints of the movable particles of `particles` (`inverse_mass >
 /// 0`) that touch `collider`, or would reach it at their present velocity,
 /// during a step of `dt` (s) ending at `end_time` (s), from their position
 /// (m) and velocity (m/s) at its start. Only projection colliders give
 /// constraints; a particle already constrained by an earlier collider is
 /// left to it.
+#[allow(clippy::too_many_arguments)]
 pub fn add_contact_constraints(
     collider: &Collider,
     end_time: Real,
     dt: Real,
+    particles: Range<usize>,
     position: &[Vec3],
     velocity: &[Vec3],
     inverse_mass: &[Real],
@@ -108,7 +112,7 @@ pub fn add_contact_constraints(
     let shape = collider.shape_at(end_time);
     let surface_velocity = collider.velocity_at(end_time);
     let already = out.len();
-    for i in 0..position.len() {
+    for i in particles {
         if inverse_mass[i] == 0.0 {
             continue;
         }

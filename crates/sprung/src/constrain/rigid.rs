@@ -24,8 +24,9 @@
 //! restitution times its approach speed, with a Coulomb friction impulse
 //! of at most the friction coefficient times the normal one (a few passes
 //! over the touching particles, as sequential impulses). Below
-//! `rest_speed` (the speed gravity gives in two steps) a contact is
-//! treated as resting: no restitution, so a body at rest does not jitter.
+//! `rest_speed` (the speed gravity gives in two steps, at least
+//! [`crate::world::RESTING_SPEED`]) a contact is treated as resting: no
+//! restitution, so a body at rest does not rock.
 //!
 //! Shape matching was chosen over rods between every pair of particles:
 //! its cost is linear in the particles, it needs no iterations to converge,
@@ -51,6 +52,11 @@ pub struct RigidBody {
     /// (m/s), the spin (rad/s), the total mass (kg) and the inverse inertia
     /// (1/(kg·m²)) about the centre.
     motion: Motion,
+    /// Per particle, this step's normal impulse (N·s), approach speed
+    /// (m/s) and friction impulse (N·s) against a collider (scratch).
+    pushed: Vec<Real>,
+    approach: Vec<Real>,
+    rubbed: Vec<Vec3>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -82,7 +88,7 @@ impl Motion {
 }
 
 /// Passes of sequential impulses over a rigid body's touching particles.
-const IMPULSE_PASSES: usize = 8;
+const IMPULSE_PASSES: usize = 16;
 
 /// The world's rigid bodies.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -109,6 +115,9 @@ impl RigidBody {
             rest,
             rotation: DQuat::IDENTITY,
             motion: Motion::default(),
+            pushed: Vec::new(),
+            approach: Vec::new(),
+            rubbed: Vec::new(),
         }
     }
 
@@ -157,12 +166,16 @@ impl RigidBody {
         }
     }
 
-    /// Meet the projection colliders at `time` (s) as a body (see the
-    /// module docs), after [`RigidBody::project`].
+    /// Meet the projection colliders at `time` (s), the end of a step of
+    /// `dt` (s), as a body (see the module docs), after
+    /// [`RigidBody::project`]. Particles within `rest_speed · dt` of the
+    /// surface (a resting contact's motion in a step) count as touching,
+    /// so a body lying on a face holds on all its corners at once.
     pub fn collide(
         &mut self,
         colliders: &[Collider],
         time: Real,
+        dt: Real,
         rest_speed: Real,
         position: &mut [Vec3],
         velocity: &mut [Vec3],
@@ -195,45 +208,50 @@ impl RigidBody {
             // impulse, for its restitution.
             let touching = |p: Vec3| {
                 let (distance, normal) = shape.distance_and_normal(p);
-                (distance <= 1e-9 * (1.0 + p.length())).then_some(normal)
+                (distance <= rest_speed * dt + 1e-9 * (1.0 + p.length())).then_some(normal)
             };
-            let mut pushed = vec![0.0; x.len()];
-            let approach: Vec<Real> = x
-                .iter()
-                .map(|&p| {
-                    touching(p).map_or(0.0, |n| {
-                        (self.motion.velocity_at(p) - surface_velocity)
-                            .dot(n)
-                            .min(0.0)
-                    })
+            let motion = &mut self.motion;
+            self.pushed.clear();
+            self.pushed.resize(x.len(), 0.0);
+            self.rubbed.clear();
+            self.rubbed.resize(x.len(), Vec3::ZERO);
+            self.approach.clear();
+            self.approach.extend(x.iter().map(|&p| {
+                touching(p).map_or(0.0, |n| {
+                    (motion.velocity_at(p) - surface_velocity).dot(n).min(0.0)
                 })
-                .collect();
+            }));
             for _ in 0..IMPULSE_PASSES {
                 for (k, &p) in x.iter().enumerate() {
                     let Some(n) = touching(p) else { continue };
-                    let relative = self.motion.velocity_at(p) - surface_velocity;
-                    let bounce = if -approach[k] > rest_speed {
+                    let relative = motion.velocity_at(p) - surface_velocity;
+                    let bounce = if -self.approach[k] > rest_speed {
                         restitution
                     } else {
                         0.0
                     };
-                    let target = -bounce * approach[k];
+                    let target = -bounce * self.approach[k];
                     let normal_speed = relative.dot(n);
-                    // Accumulated normal impulse stays pushing (≥ 0).
-                    let wanted = (target - normal_speed) / self.motion.inverse_mass_along(p, n);
-                    let total = (pushed[k] + wanted).max(0.0);
-                    let impulse = total - pushed[k];
-                    pushed[k] = total;
-                    self.motion.kick(p, impulse * n);
-                    // Friction: stop the sliding, up to μ times the push.
-                    let relative = self.motion.velocity_at(p) - surface_velocity;
+                    // The accumulated normal impulse stays pushing (≥ 0).
+                    let wanted = (target - normal_speed) / motion.inverse_mass_along(p, n);
+                    let total = (self.pushed[k] + wanted).max(0.0);
+                    motion.kick(p, (total - self.pushed[k]) * n);
+                    self.pushed[k] = total;
+                    // Friction: the accumulated tangential impulse that
+                    // stops the sliding, at most μ times the push (Coulomb).
+                    let relative = motion.velocity_at(p) - surface_velocity;
                     let sliding = relative - relative.dot(n) * n;
                     let speed = sliding.length();
                     if speed > 0.0 && friction > 0.0 {
                         let t = sliding / speed;
-                        let stop = speed / self.motion.inverse_mass_along(p, t);
-                        self.motion
-                            .kick(p, -stop.min(friction * impulse.max(0.0)) * t);
+                        let stop = -speed / motion.inverse_mass_along(p, t) * t;
+                        let mut rubbed = self.rubbed[k] + stop;
+                        let most = friction * self.pushed[k];
+                        if rubbed.length() > most {
+                            rubbed *= most / rubbed.length();
+                        }
+                        motion.kick(p, rubbed - self.rubbed[k]);
+                        self.rubbed[k] = rubbed;
                     }
                 }
             }
@@ -248,8 +266,9 @@ impl RigidBody {
 
 impl RigidBodies {
     /// Put every rigid body on its rest shape, then let it meet the
-    /// projection `colliders` at `time` (s); contacts slower than
-    /// `rest_speed` (m/s) rest rather than bounce.
+    /// projection `colliders` at `time` (s), the end of a step of `dt` (s);
+    /// contacts slower than `rest_speed` (m/s) rest rather than bounce.
+    #[allow(clippy::too_many_arguments)]
     pub fn project(
         &mut self,
         position: &mut [Vec3],
@@ -257,11 +276,12 @@ impl RigidBodies {
         mass: &[Real],
         colliders: &[Collider],
         time: Real,
+        dt: Real,
         rest_speed: Real,
     ) {
         for body in &mut self.list {
             body.project(position, velocity, mass);
-            body.collide(colliders, time, rest_speed, position, velocity);
+            body.collide(colliders, time, dt, rest_speed, position, velocity);
         }
     }
 }
