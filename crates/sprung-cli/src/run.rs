@@ -153,6 +153,17 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
             {
                 progress.suspend(|| eprintln!("warning: {}", unconverged_warning(&scene)));
             }
+            Ok(_)
+                if scene.world.constraint_stats().unconverged_steps == 1
+                    && scene
+                        .world
+                        .constraint_stats()
+                        .first_unconverged
+                        .map(|f| f.0)
+                        == Some(scene.world.steps()) =>
+            {
+                progress.suspend(|| eprintln!("warning: {}", rods_warning(&scene)));
+            }
             Ok(_) => {}
             Err(error) => {
                 progress.abandon();
@@ -174,6 +185,12 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
     progress.finish_and_clear();
     let rows = diagnostics.rows();
     diagnostics.finish().map_err(io)?;
+    let rods_off = scene.world.constraint_stats().unconverged_steps;
+    if rods_off > 0 {
+        eprintln!(
+            "warning: the rods stayed off their lengths beyond constraint_tolerance after constraint_iterations sweeps in {rods_off} of {steps} steps"
+        );
+    }
     let unconverged = scene.world.solver_stats().unconverged_steps;
     if unconverged > 0 {
         eprintln!(
@@ -197,6 +214,22 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         );
     }
     Ok(())
+}
+
+/// The warning for the first step whose rods stayed off their lengths.
+fn rods_warning(scene: &Scene) -> String {
+    let settings = scene.world.settings.constraints;
+    let (step, error) = scene
+        .world
+        .constraint_stats()
+        .first_unconverged
+        .unwrap_or((scene.world.steps(), f64::NAN));
+    format!(
+        "step {step} (t = {:.6} s): after constraint_iterations = {} sweeps a rod is still off its length by {error:.3e} (relative), above constraint_tolerance = {:.1e}; rods between very unequal masses converge slowly (raise `constraint_iterations`, lower `dt`, or even out the masses; warned once, counted at the end)",
+        scene.world.time(),
+        settings.iterations,
+        settings.tolerance
+    )
 }
 
 /// The warning for the first step whose implicit solve stopped at its

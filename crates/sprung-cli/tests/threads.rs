@@ -190,3 +190,25 @@ fn implicit_solvers_are_the_same_on_one_and_two_threads() {
     let scene = cloth("projective", 1.0 / 60.0, 3, "");
     assert_same_on_one_and_two_threads(&scene, "projective cloth");
 }
+
+#[test]
+fn gravitation_is_the_same_on_one_and_two_threads() {
+    // A cloud of 5000 gravitating particles (more than one chunk of 4096,
+    // so the pulls run on both threads; their energy is a parallel sum),
+    // three RK4 steps, every row and frame recorded.
+    let mut particles = String::new();
+    for i in 0..5000u32 {
+        let (a, b, c) = (
+            (i * 7919 % 1000) as f64 / 1000.0,
+            (i * 104729 % 997) as f64 / 997.0,
+            (i * 1299709 % 991) as f64 / 991.0,
+        );
+        particles.push_str(&format!("[{a}, {b}, {c}], "));
+    }
+    let scene = format!(
+        "[sim]\ndt = 1e-3\nintegrator = \"rk4\"\ngravity = [0.0, 0.0, 0.0]\nsteps = 3\nevery = 1\n\n\
+         [gravitation]\nconstant = 1e-3\nsoftening = 0.01\n\n\
+         [[body]]\nname = \"cloud\"\nparticles = [{particles}]\nmass = 0.001\ncollide = false\n"
+    );
+    assert_same_on_one_and_two_threads(&scene, "gravitation");
+}

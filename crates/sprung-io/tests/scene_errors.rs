@@ -772,3 +772,28 @@ softening = 0.01
     );
     assert!(scene.world.energies().gravitation < 0.0);
 }
+
+#[test]
+fn a_rod_between_pins_and_two_muscles_on_one_spring_are_refused() {
+    let head = "[sim]\ndt = 1e-3\nsteps = 2\n\n[[body]]\nname = \"b\"\nparticles = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]\nsprings = [[0, 1], [1, 2]]\n";
+    for (tail, line, needle) in [
+        (
+            "pinned = [0, 1]\nrods = [[0, 1]]\n",
+            "s.toml:10:",
+            "`rods`[0] joins two pinned particles",
+        ),
+        (
+            "muscles = [{ spring = 1, amplitude = 0.1, period = 1.0 }, { spring = 1, amplitude = 0.2, period = 2.0 }]\n",
+            "s.toml:9:",
+            "another muscle drives this spring already",
+        ),
+    ] {
+        let text = format!("{head}{tail}");
+        let error = sprung_io::parse_scene(&text, std::path::Path::new("s.toml"))
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(error.contains(needle), "{error}");
+        assert!(error.starts_with(line), "names the key's line: {error}");
+    }
+}

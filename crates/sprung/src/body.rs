@@ -503,12 +503,24 @@ impl BodyData {
             if r.first == r.second || !(length.is_finite() && length > 0.0) {
                 return Err(BuildError::BadRodLength { rod, length });
             }
+            let pinned = |i| self.pinned.contains(&i);
+            if pinned(r.first) && pinned(r.second) {
+                return Err(BuildError::PinnedRod { rod });
+            }
         }
         Ok(())
     }
 
     fn validate_muscles(&self) -> Result<(), BuildError> {
         for (muscle, m) in self.muscles.iter().enumerate() {
+            if self.muscles[..muscle].iter().any(|e| e.spring == m.spring) {
+                return Err(BuildError::BadMuscle {
+                    muscle,
+                    field: "spring",
+                    value: m.spring as Real,
+                    reason: "another muscle drives this spring already: one muscle per spring",
+                });
+            }
             if m.spring >= self.springs.len() {
                 return Err(BuildError::MuscleSpringOutOfRange {
                     muscle,

@@ -68,6 +68,12 @@ pub enum BuildError {
         /// Its length (m).
         length: Real,
     },
+    /// A rod between two pinned particles: it can hold nothing.
+    #[error("`rods`[{rod}] joins two pinned particles: a rod needs a free end")]
+    PinnedRod {
+        /// Rod index.
+        rod: usize,
+    },
     /// A muscle naming a spring that does not exist.
     #[error(
         "`muscles`[{muscle}].spring = {spring}: out of range (the body has {springs} springs)"

@@ -98,6 +98,16 @@ pub struct SolverStats {
     pub first_unconverged: Option<(u64, Real)>,
 }
 
+/// How often the rods' projection stopped at `constraint_iterations` with
+/// a rod still off its length by more than `constraint_tolerance`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ConstraintStats {
+    /// Steps that ended with a rod beyond the tolerance.
+    pub unconverged_steps: u64,
+    /// The first such step and its largest relative length error.
+    pub first_unconverged: Option<(u64, Real)>,
+}
+
 /// A simulated world.
 #[derive(Debug)]
 pub struct World {
@@ -130,6 +140,7 @@ pub struct World {
     rod_scratch: Vec<Vec3>,
     /// What the rods' projection did in the last step.
     last_rods: RodReport,
+    constraint_stats: ConstraintStats,
     integrator: Box<dyn Integrator>,
     time: Real,
     /// Kahan compensation of `time`, so that many small steps add up to the
@@ -168,6 +179,7 @@ impl World {
             step_start: Vec::new(),
             rod_scratch: Vec::new(),
             last_rods: RodReport::default(),
+            constraint_stats: ConstraintStats::default(),
             integrator: integrator.create(),
             time: 0.0,
             time_compensation: 0.0,
@@ -379,8 +391,10 @@ impl World {
         self.bodies.iter().find(|b| b.name == name)
     }
 
-    /// Advance the world by `dt` (s): integrate, collide, then check that the
-    /// state is still finite and within the limits of [`Settings`]. Returns
+    /// Advance the world by `dt` (s): detect contacts, then per substep set
+    /// the muscles, integrate, collide, add friction and constrain (rods,
+    /// rigid bodies), then check that the state is still finite and within
+    /// the limits of [`Settings`]. Returns
     /// what the integrator reported (also kept in
     /// [`World::last_step_report`]); a solve that stopped above its
     /// tolerance is counted in [`World::solver_stats`].
@@ -418,6 +432,13 @@ impl World {
         }
         self.steps += 1;
         self.last_report = report;
+        if self.last_rods.error > self.settings.constraints.tolerance {
+            let stats = &mut self.constraint_stats;
+            stats.unconverged_steps += 1;
+            if stats.first_unconverged.is_none() {
+                stats.first_unconverged = Some((self.steps, self.last_rods.error));
+            }
+        }
         if report.unconverged {
             let stats = &mut self.solver_stats;
             stats.unconverged_steps += 1;
@@ -486,6 +507,12 @@ impl World {
     /// largest relative length error left.
     pub fn last_rod_report(&self) -> RodReport {
         self.last_rods
+    }
+
+    /// How often the rods' projection stopped above its tolerance so far
+    /// (rods joining very unequal masses converge slowly).
+    pub fn constraint_stats(&self) -> ConstraintStats {
+        self.constraint_stats
     }
 
     /// Check the solver, contact and substep settings.

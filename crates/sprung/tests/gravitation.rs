@@ -61,8 +61,9 @@ fn orbit(world: &mut World, dt: Real, duration: Real) -> (Vec<Real>, Vec<Real>) 
             "momentum {momentum}"
         );
         let centre = PLANET * p.position[1] + SUN * p.position[0];
-        // Rounding of the two positions only (the pulls are exactly
-        // opposite): 1e-12 m over a 1 m orbit.
+        // Rounding only (the two pulls are opposite up to the rounding of
+        // their products, G m_i (m_j p) against G m_j (m_i p)): 1e-12 m over
+        // a 1 m orbit.
         assert!(
             centre.length() <= 1e-12,
             "the centre of mass moved to {centre}"

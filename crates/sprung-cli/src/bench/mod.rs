@@ -141,7 +141,8 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let all_pool = parallel::Pool::new(all).map_err(threads_error)?;
     println!("{}", machine(&one_pool, &all_pool, args.quick));
     if args.demos {
-        return demos::run(steps, seconds.max(1.0));
+        let least = if args.quick { 0.0 } else { seconds.max(1.0) };
+        return demos::run(steps, least);
     }
     let sizes = if args.quick {
         vec![8, 16]

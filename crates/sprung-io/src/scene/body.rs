@@ -463,7 +463,9 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::GasWithoutSurface | BuildError::OpenSurface { .. } => "gas",
         BuildError::SelfCollisionWithoutSurface => "self_collision",
         BuildError::DuplicateName(_) | BuildError::BadName(_) => "name",
-        BuildError::RodIndexOutOfRange { .. } | BuildError::BadRodLength { .. } => "rods",
+        BuildError::RodIndexOutOfRange { .. }
+        | BuildError::BadRodLength { .. }
+        | BuildError::PinnedRod { .. } => "rods",
         BuildError::MuscleSpringOutOfRange { .. } | BuildError::BadMuscle { .. } => "muscles",
         BuildError::RigidTooSmall | BuildError::RigidPinned => "rigid",
         BuildError::BeyondLimit { field, .. } | BuildError::EnergyOverflow { field, .. } => field,

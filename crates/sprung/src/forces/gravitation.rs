@@ -32,8 +32,9 @@ pub struct Gravitation {
     members: Vec<u32>,
     /// Per particle, whether it takes part.
     member: Vec<bool>,
-    /// The bodies the members were taken from (body count, particle count).
-    built_for: (usize, usize),
+    /// The bodies' `gravitating` flags and the particle count the members
+    /// were taken from.
+    built_for: (Vec<bool>, usize),
 }
 
 impl Gravitation {
@@ -59,16 +60,27 @@ impl Gravitation {
             softening,
             members: Vec::new(),
             member: Vec::new(),
-            built_for: (usize::MAX, usize::MAX),
+            built_for: (Vec::new(), usize::MAX),
         })
     }
 
+    /// Whether the members were taken from these bodies as they are now.
+    fn is_current(&self, context: &ForceContext) -> bool {
+        let (flags, particles) = &self.built_for;
+        *particles == context.position.len()
+            && flags
+                .iter()
+                .eq(context.bodies.iter().map(|b| &b.gravitating))
+    }
+
     fn refresh(&mut self, context: &ForceContext) {
-        let key = (context.bodies.len(), context.position.len());
-        if key == self.built_for {
+        if self.is_current(context) {
             return;
         }
-        self.built_for = key;
+        self.built_for = (
+            context.bodies.iter().map(|b| b.gravitating).collect(),
+            context.position.len(),
+        );
         self.member.clear();
         self.member.resize(context.position.len(), false);
         self.members.clear();
@@ -123,7 +135,7 @@ impl Force for Gravitation {
         // Before the first force evaluation the members are not built yet
         // (the energy of step 0): take them from the bodies.
         let fresh: Vec<u32>;
-        let members = if self.built_for == (context.bodies.len(), x.len()) {
+        let members = if self.is_current(context) {
             &self.members
         } else {
             fresh = context
