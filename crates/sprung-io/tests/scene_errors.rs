@@ -789,10 +789,10 @@ fn a_rod_between_pins_and_two_muscles_on_one_spring_are_refused() {
         ),
     ] {
         let text = format!("{head}{tail}");
-        let error = sprung_io::parse_scene(&text, std::path::Path::new("s.toml"))
-            .err()
-            .expect("refused")
-            .to_string();
+        let Err(error) = parse_scene(&text, Path::new("s.toml")) else {
+            panic!("{tail}: accepted");
+        };
+        let error = error.to_string();
         assert!(error.contains(needle), "{error}");
         assert!(error.starts_with(line), "names the key's line: {error}");
     }
