@@ -19,16 +19,23 @@ fn cube() -> BodyData {
     cube
 }
 
-fn angular_momentum(world: &World) -> Vec3 {
+/// The centre of mass (m) of the world's particles.
+fn centre_of_mass(world: &World) -> Vec3 {
     let p = &world.particles;
     let total: Real = p.mass.iter().sum();
-    let centre: Vec3 = p
-        .position
+    p.position
         .iter()
         .zip(&p.mass)
         .map(|(&x, &m)| m * x)
         .sum::<Vec3>()
-        / total;
+        / total
+}
+
+/// Angular momentum (kg·m²/s) of the world's particles about their centre
+/// of mass.
+fn angular_momentum(world: &World) -> Vec3 {
+    let p = &world.particles;
+    let centre = centre_of_mass(world);
     p.position
         .iter()
         .zip(&p.velocity)
@@ -37,19 +44,11 @@ fn angular_momentum(world: &World) -> Vec3 {
         .sum()
 }
 
-/// The angular velocity (rad/s) of a rigid world's one body: from two
-/// particles' velocities relative to the centre, `ω = I⁻¹ L` with the
-/// inertia of the particles.
+/// The angular velocity (rad/s) of a rigid world's one body, `ω = I⁻¹ L`
+/// with the inertia of its particles about their centre of mass.
 fn spin_of(world: &World) -> Vec3 {
     let p = &world.particles;
-    let total: Real = p.mass.iter().sum();
-    let centre: Vec3 = p
-        .position
-        .iter()
-        .zip(&p.mass)
-        .map(|(&x, &m)| m * x)
-        .sum::<Vec3>()
-        / total;
+    let centre = centre_of_mass(world);
     let mut inertia = glam::DMat3::ZERO;
     for (&x, &m) in p.position.iter().zip(&p.mass) {
         let r = x - centre;
@@ -256,10 +255,6 @@ fn cube_over_floor(
     world
 }
 
-fn centre_of(world: &World) -> Vec3 {
-    world.particles.position.iter().sum::<Vec3>() / world.particles.len() as Real
-}
-
 #[test]
 fn a_rigid_cube_bounces_with_its_restitution_under_every_integrator() {
     // Dropped flat from 0.5 m with restitution 0.8: it leaves the floor at
@@ -313,11 +308,11 @@ fn a_sliding_rigid_cube_stops_where_coulomb_friction_says() {
             0.0,
             mu,
         );
-        let start = centre_of(&world);
+        let start = centre_of_mass(&world);
         for _ in 0..(1.0 / dt) as usize {
             world.step(dt).unwrap();
         }
-        let slid = centre_of(&world).x - start.x;
+        let slid = centre_of_mass(&world).x - start.x;
         assert!(
             (slid - expected).abs() <= 2.0 * speed * dt + 1e-3 * expected,
             "dt = {dt}: slid {slid} m, Coulomb says {expected} m"
