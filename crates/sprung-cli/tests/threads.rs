@@ -197,7 +197,7 @@ fn gravitation_is_the_same_on_one_and_two_threads() {
     // so the pulls run on both threads; their energy is a parallel sum),
     // three RK4 steps, every row and frame recorded.
     let mut particles = String::new();
-    for i in 0..5000u32 {
+    for i in 0..5000u64 {
         let (a, b, c) = (
             (i * 7919 % 1000) as f64 / 1000.0,
             (i * 104729 % 997) as f64 / 997.0,
