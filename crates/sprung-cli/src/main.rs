@@ -6,6 +6,7 @@
 //! written, 2 for a malformed command line, 3 when the simulation blew up.
 
 mod bench;
+mod check;
 
 /// Counts heap use, for the bench's peak memory and allocations per step.
 #[global_allocator]
@@ -56,6 +57,11 @@ enum Command {
         list: bool,
         #[command(flatten)]
         options: RunOptions,
+    },
+    /// Load and validate a scene without running it: counts, memory, and dt against the stable step.
+    Check {
+        /// The scene file (TOML).
+        scene: PathBuf,
     },
     /// Draw a scene or a finished run: PNG frames and an animated GIF.
     Render(render::RenderArgs),
@@ -121,6 +127,7 @@ fn main() -> ExitCode {
             }
         }
         Command::Bench(args) => bench::run(&args),
+        Command::Check { scene } => check::run(&scene),
         Command::Render(args) => render::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::View(args) => view::run(&args),

@@ -499,3 +499,44 @@ fn implicit_solves_are_reported_and_a_solve_short_of_its_tolerance_is_warned_abo
         assert_eq!((cells[iterations], cells[residual]), ("", ""), "{line}");
     }
 }
+
+#[test]
+fn check_loads_a_scene_without_running_it() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let horse = scenes.join("horse.toml");
+    let output = sprung(&["check", horse.to_str().unwrap()], dir.path());
+    let stdout = text(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+    assert!(
+        stdout.contains("4002 particles, 23423 springs, 8000 faces"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("stable step of the explicit integrators: about 4.841e-4 s"),
+        "{stdout}"
+    );
+    assert!(
+        text(&output.stderr).is_empty(),
+        "the horse's dt is below its stable step"
+    );
+    // Explicit Euler at dt = 0.02 s on a chain stable below 3.2e-3 s: warned.
+    write(dir.path(), "blow.toml", BLOW_UP_SCENE);
+    let output = sprung(&["check", "blow.toml"], dir.path());
+    assert_eq!(output.status.code(), Some(0));
+    assert!(
+        text(&output.stderr).contains("dt = 0.02 s is above the stable estimate 3.162e-3 s"),
+        "{}",
+        text(&output.stderr)
+    );
+    // A scene that does not load: exit 1 with its error, nothing written.
+    write(dir.path(), "bad.toml", "[sim]\ndt = -1\n");
+    let output = sprung(&["check", "bad.toml"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    assert!(text(&output.stderr).contains("bad.toml"));
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        2,
+        "check writes nothing"
+    );
+}

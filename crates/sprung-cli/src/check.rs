@@ -1,0 +1,63 @@
+//! `sprung check SCENE`: load and validate a scene and its meshes without
+//! running it; print what it holds, the memory it would take, and its time
+//! step against the stable step of the explicit integrators.
+
+use std::path::Path;
+
+use sprung_io::load_scene;
+
+use crate::run::CliError;
+
+/// Bytes per particle of the world's state (position, velocity, force,
+/// mass, inverse mass), and of an integrator's scratch at most (RK4:
+/// five more three-vectors).
+const PARTICLE_BYTES: u64 = 3 * 24 + 2 * 8 + 5 * 24;
+/// Bytes per spring (two `u32` ends, rest length, stiffness, damping, a
+/// flag) and its share of the force schedule.
+const SPRING_BYTES: u64 = 4 + 4 + 3 * 8 + 1 + 8;
+
+/// Check the scene at `path`: exit status 0 when it loads, 1 (with the
+/// error) when it does not.
+pub fn run(path: &Path) -> Result<(), CliError> {
+    let scene = load_scene(path)?;
+    let world = &scene.world;
+    let faces: usize = world.bodies.iter().map(|b| b.faces.len()).sum();
+    let segments: usize = world.bodies.iter().map(|b| b.segments.len()).sum();
+    let bytes = world.particles.len() as u64 * PARTICLE_BYTES
+        + world.springs.len() as u64 * SPRING_BYTES
+        + (faces * 12 + segments * 8) as u64;
+    println!("{}: loads", path.display());
+    println!(
+        "  {} bodies, {} particles, {} springs, {} faces, {} segments, {} rods, {} muscles, {} rigid",
+        world.bodies.len(),
+        world.particles.len(),
+        world.springs.len(),
+        faces,
+        segments,
+        world.rods.len(),
+        world.muscles.list.len(),
+        world.rigid.list.len(),
+    );
+    println!("  memory while running: about {:.1} MB", bytes as f64 / 1e6);
+    println!(
+        "  {} steps of dt = {} s with {} ({} s)",
+        scene.steps,
+        scene.dt,
+        world.integrator(),
+        scene.steps as f64 * scene.dt
+    );
+    let stable = world.stable_time_step();
+    if stable.is_finite() {
+        println!("  stable step of the explicit integrators: about {stable:.3e} s");
+        if !world.integrator().is_implicit() && scene.dt > stable {
+            eprintln!(
+                "warning: dt = {} s is above the stable estimate {stable:.3e} s: {} will likely blow up (lower dt, use substeps = \"auto\", or an implicit integrator)",
+                scene.dt,
+                world.integrator()
+            );
+        }
+    } else {
+        println!("  stable step of the explicit integrators: unlimited (nothing stiff)");
+    }
+    Ok(())
+}
