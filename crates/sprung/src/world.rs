@@ -115,7 +115,9 @@ pub struct World {
     pub particles: Particles,
     /// Every spring of every body.
     pub springs: Springs,
-    /// The bodies, in the order they were added.
+    /// The bodies, in the order they were added (add them with
+    /// [`World::add_body`], which keeps the index of names that
+    /// [`World::body`] looks them up in).
     pub bodies: Vec<Body>,
     /// Every force acting on the particles: a new world has gravity
     /// ([`DEFAULT_GRAVITY`]), the springs, the gas pressure and the penalty
@@ -134,6 +136,8 @@ pub struct World {
     pub muscles: Muscles,
     /// Rigid bodies.
     pub rigid: RigidBodies,
+    /// Each body's index by name (names are unique).
+    names: std::collections::HashMap<String, usize>,
     /// Positions at the start of the (sub)step, for the rods' directions.
     step_start: Vec<Vec3>,
     /// Positions before the rods' projection (scratch).
@@ -176,6 +180,7 @@ impl World {
             rods: Rods::default(),
             muscles: Muscles::default(),
             rigid: RigidBodies::default(),
+            names: std::collections::HashMap::new(),
             step_start: Vec::new(),
             rod_scratch: Vec::new(),
             last_rods: RodReport::default(),
@@ -252,7 +257,7 @@ impl World {
         if name.is_empty() || name.contains([',', '"', '\n', '\r']) {
             return Err(BuildError::BadName(name.to_string()));
         }
-        if self.bodies.iter().any(|b| b.name == name) {
+        if self.names.contains_key(name) {
             return Err(BuildError::DuplicateName(name.to_string()));
         }
         let offset = self.particles.len();
@@ -329,6 +334,7 @@ impl World {
             ));
         }
         orient_outward(&mut body, &self.particles.position);
+        self.names.insert(body.name.clone(), self.bodies.len());
         self.bodies.push(body);
         Ok(self.bodies.len() - 1)
     }
@@ -388,7 +394,7 @@ impl World {
 
     /// The body called `name`, if any.
     pub fn body(&self, name: &str) -> Option<&Body> {
-        self.bodies.iter().find(|b| b.name == name)
+        self.names.get(name).map(|&i| &self.bodies[i])
     }
 
     /// Advance the world by `dt` (s): detect contacts, then per substep set
