@@ -1,7 +1,9 @@
 //! Reading input files within a budget: only regular files (not a device
 //! such as `/dev/zero`, a pipe or a folder, also behind a link), and at
-//! most [`max_input_bytes`], so that no input can exhaust memory before it
-//! is refused.
+//! most a size limit, so that no input can exhaust memory before it is
+//! refused: [`DEFAULT_MAX_INPUT_BYTES`] for mesh files, and
+//! [`DEFAULT_MAX_SCENE_BYTES`] for scene files, whose TOML parser holds
+//! about fifty times the file while it reads (its tokens and events).
 
 use std::io::Read;
 use std::path::Path;
@@ -10,24 +12,28 @@ use std::path::Path;
 /// any scene or mesh the demos use (the 4002-vertex horse is 0.3 MB).
 pub const DEFAULT_MAX_INPUT_BYTES: u64 = 256 << 20;
 
-/// The environment variable that overrides [`DEFAULT_MAX_INPUT_BYTES`]
-/// (a number of bytes).
+/// The largest scene file read by default (bytes): 16 MiB, some 800 MB
+/// while it is parsed; a scene's large data belongs in mesh files.
+pub const DEFAULT_MAX_SCENE_BYTES: u64 = 16 << 20;
+
+/// The environment variable that overrides both limits (a number of
+/// bytes).
 pub const MAX_INPUT_VARIABLE: &str = "SPRUNG_MAX_INPUT_BYTES";
 
-/// The size limit of input files (bytes): `SPRUNG_MAX_INPUT_BYTES` when it
-/// is a whole number, else [`DEFAULT_MAX_INPUT_BYTES`].
-pub fn max_input_bytes() -> u64 {
+/// The size limit (bytes): `SPRUNG_MAX_INPUT_BYTES` when it is a whole
+/// number, else `default`.
+pub fn max_input_bytes(default: u64) -> u64 {
     std::env::var(MAX_INPUT_VARIABLE)
         .ok()
         .and_then(|v| v.trim().parse().ok())
-        .unwrap_or(DEFAULT_MAX_INPUT_BYTES)
+        .unwrap_or(default)
 }
 
 /// The bytes of the regular file at `path`, refused (with a sentence that
 /// says why and the figures) when it is not a regular file or is larger
-/// than [`max_input_bytes`].
-pub fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
-    let limit = max_input_bytes();
+/// than [`max_input_bytes`] of `default` (bytes).
+pub fn read_input(path: &Path, default: u64) -> std::io::Result<Vec<u8>> {
+    let limit = max_input_bytes(default);
     let metadata = std::fs::metadata(path)?;
     if !metadata.is_file() {
         return Err(std::io::Error::other(

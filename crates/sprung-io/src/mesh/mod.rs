@@ -81,7 +81,7 @@ impl MeshFormat {
 /// extension (`asc`, `obj`, `off`, `stl`, any case).
 pub fn load_mesh_file(path: &Path) -> Result<Vec<TriangleMesh>, MeshError> {
     let format = MeshFormat::from_path(path)?;
-    let bytes = crate::input::read_input(path)
+    let bytes = crate::input::read_input(path, crate::input::DEFAULT_MAX_INPUT_BYTES)
         .map_err(|e| MeshError::new(path, MeshErrorKind::Io(e.to_string())))?;
     parse_mesh(&bytes, format, path)
 }

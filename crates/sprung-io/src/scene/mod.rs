@@ -65,7 +65,7 @@ pub struct SceneCamera {
 
 /// Read and build the scene file at `path`.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = crate::input::read_input(path)
+    let bytes = crate::input::read_input(path, crate::input::DEFAULT_MAX_SCENE_BYTES)
         .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
     let text = scene_text(&bytes, path)?;
     parse_scene(text, path)
@@ -102,7 +102,7 @@ pub struct Disk;
 
 impl FileSource for Disk {
     fn read(&self, path: &Path) -> std::io::Result<Vec<u8>> {
-        crate::input::read_input(path)
+        crate::input::read_input(path, crate::input::DEFAULT_MAX_INPUT_BYTES)
     }
 }
 
