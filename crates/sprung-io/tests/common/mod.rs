@@ -1,5 +1,7 @@
 //! Helpers shared by the io test files.
 
+pub mod mutate;
+
 use std::path::{Path, PathBuf};
 
 /// `shared/meshes`, the repository's sibling folder. A missing folder fails
