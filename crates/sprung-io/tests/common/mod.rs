@@ -1,4 +1,5 @@
 //! Helpers shared by the io test files.
+#![allow(dead_code)] // each test file uses only some of them
 
 pub mod mutate;
 
