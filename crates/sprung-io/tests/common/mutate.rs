@@ -2,7 +2,6 @@
 //! deleted, duplicated, swapped or moved, bytes flipped or inserted, the
 //! file cut short, numbers replaced by `nan`, huge, negative or malformed
 //! values), driven by a tiny seeded generator so every run is the same.
-#![allow(dead_code)] // only the fuzz test files use it
 
 /// Marsaglia's xorshift64: enough to scatter mutations, fully reproducible.
 pub struct XorShift(pub u64);
