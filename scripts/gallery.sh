@@ -29,15 +29,21 @@ demos=(
   "jelly 2 12"
   "chain 6 10"
   "lattice2d 2 12"
+  "pendulum 6 10"
+  "double_pendulum 8 12"
+  "spring_pendulum 12 8 --trace 1"
+  "orbit 8 10"
+  "walker 10 6"
+  "dice 3 12"
 )
 for entry in "${demos[@]}"; do
-  read -r name seconds rate <<<"$entry"
+  read -r name seconds rate extra <<<"$entry"
   echo "gallery: $name"
   scene="scenes/$name.toml"
   dt=$(sed -n 's/^dt *= *\([0-9.e-]*\).*/\1/p' "$scene" | head -1)
   every=$(python3 -c "print(max(1, round(1 / ($rate * $dt))))")
   "$sprung" render "$scene" --time "$seconds" --every "$every" --width 400 --height 300 \
-    --gif --out "$work/$name" --quiet
+    --gif --out "$work/$name" --quiet ${extra:-}
   cp "$work/$name/animation.gif" "$gallery/$name.gif"
 done
 
