@@ -471,3 +471,32 @@ fn rods_muscles_and_traces_are_drawn_in_their_own_colours() {
     // Muscles of other phases take other colours.
     assert_ne!(phase_colour(0.0), phase_colour(std::f64::consts::PI));
 }
+
+#[test]
+fn rods_survive_a_vtk_frame() {
+    use sprung::{BodyData, RodData, SpringData};
+    // A rod 0–1 and a spring 1–2: the frame carries the rod as a line
+    // flagged `rod`, read back as a rod, not a spring.
+    let mut body = BodyData::from_positions(vec![
+        Vec3::ZERO,
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+    ]);
+    body.rods.push(RodData {
+        first: 0,
+        second: 1,
+        length: None,
+    });
+    body.springs = vec![SpringData::between(1, 2)];
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    world.add_body("parts", body).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    write_frame(dir.path(), 0, &world, FrameFormat::Vtk).unwrap();
+    let path = dir.path().join("frame_000000.vtk");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let frame = sprung_io::export::read_vtk_frame(&text, &path).unwrap();
+    let model = Model::from_vtk(&frame);
+    assert_eq!(model.rods, vec![[0, 1]]);
+    assert_eq!(model.springs, vec![[1, 2]]);
+    assert_eq!(model.rods, Model::of_world(&world).rods);
+}

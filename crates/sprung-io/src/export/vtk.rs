@@ -7,7 +7,9 @@
 //! Cell data covers every cell, lines first then polygons (the legacy
 //! format's order): `rest_length` (m) and `strain` (`(d - L0) / L0`, no
 //! unit) are 0 for polygons; `outline` is 1 for a spring that is also a
-//! segment of a closed 2D loop (a ring's perimeter), else 0.
+//! segment of a closed 2D loop (a ring's perimeter), else 0. Rigid rods
+//! follow the springs as lines (their length as `rest_length`), marked by
+//! a `rod` array of 1s, written only when the world has rods.
 
 use std::collections::BTreeSet;
 use std::fmt::Write;
@@ -37,10 +39,15 @@ pub(crate) fn render(world: &World) -> String {
     for x in &particles.position {
         let _ = writeln!(out, "{} {} {}", x.x, x.y, x.z);
     }
-    if !springs.is_empty() {
-        let _ = writeln!(out, "LINES {} {}", springs.len(), 3 * springs.len());
+    let rods = &world.rods;
+    let lines = springs.len() + rods.len();
+    if lines > 0 {
+        let _ = writeln!(out, "LINES {lines} {}", 3 * lines);
         for s in 0..springs.len() {
             let _ = writeln!(out, "2 {} {}", springs.first()[s], springs.second()[s]);
+        }
+        for r in 0..rods.len() {
+            let _ = writeln!(out, "2 {} {}", rods.first[r], rods.second[r]);
         }
     }
     if !faces.is_empty() {
@@ -62,18 +69,20 @@ pub(crate) fn render(world: &World) -> String {
     out
 }
 
-/// `CELL_DATA`: rest length, strain and outline flag of every spring, 0 for
-/// every face. Nothing when there are no cells.
+/// `CELL_DATA`: rest length, strain and outline flag of every spring (and
+/// rod), 0 for every face; the `rod` flags when there are rods. Nothing
+/// when there are no cells.
 fn write_cell_data(out: &mut String, world: &World, faces: usize) {
     let springs = &world.springs;
-    let cells = springs.len() + faces;
+    let rods = &world.rods;
+    let cells = springs.len() + rods.len() + faces;
     if cells == 0 {
         return;
     }
     let position = &world.particles.position;
     let _ = writeln!(out, "CELL_DATA {cells}");
     let _ = writeln!(out, "SCALARS rest_length double 1\nLOOKUP_TABLE default");
-    for length in &springs.rest_length {
+    for length in springs.rest_length.iter().chain(&rods.length) {
         let _ = writeln!(out, "{length}");
     }
     for _ in 0..faces {
@@ -89,6 +98,10 @@ fn write_cell_data(out: &mut String, world: &World, faces: usize) {
             (d - springs.rest_length[s]) / springs.rest_length[s]
         );
     }
+    for r in 0..rods.len() {
+        let d = position[rods.first[r] as usize].distance(position[rods.second[r] as usize]);
+        let _ = writeln!(out, "{}", (d - rods.length[r]) / rods.length[r]);
+    }
     for _ in 0..faces {
         let _ = writeln!(out, "0");
     }
@@ -97,8 +110,20 @@ fn write_cell_data(out: &mut String, world: &World, faces: usize) {
     for flag in outline {
         let _ = writeln!(out, "{}", u8::from(flag));
     }
-    for _ in 0..faces {
+    for _ in 0..rods.len() + faces {
         let _ = writeln!(out, "0");
+    }
+    if !rods.is_empty() {
+        let _ = writeln!(out, "SCALARS rod int 1\nLOOKUP_TABLE default");
+        for _ in 0..springs.len() {
+            let _ = writeln!(out, "0");
+        }
+        for _ in 0..rods.len() {
+            let _ = writeln!(out, "1");
+        }
+        for _ in 0..faces {
+            let _ = writeln!(out, "0");
+        }
     }
 }
 

@@ -76,15 +76,22 @@ impl Model {
     /// The model of a VTK frame: `LINES` as springs (a polyline as one
     /// spring per piece), the `rest_length` cell scalars if present (else
     /// NaN), `POLYGONS` as triangle fans, the `outline` cell flags chained
-    /// into 2D loops, and the `pinned` point scalars.
+    /// into 2D loops, lines flagged by the `rod` cell scalars as rods, and
+    /// the `pinned` point scalars.
     pub fn from_vtk(frame: &VtkFrame) -> Self {
         let rest = frame.line_scalars("rest_length");
         let outline = frame.line_scalars("outline");
+        let rod = frame.line_scalars("rod");
+        let mut rods = Vec::new();
         let mut springs = Vec::with_capacity(frame.lines.len());
         let mut rest_length = Vec::with_capacity(frame.lines.len());
         let mut outline_edges = Vec::new();
         for (cell, line) in frame.lines.iter().enumerate() {
             let single = line.len() == 2;
+            if single && rod.is_some_and(|r| r[cell] != 0.0) {
+                rods.push([line[0], line[1]]);
+                continue;
+            }
             for pair in line.windows(2) {
                 springs.push([pair[0], pair[1]]);
                 let length = rest.filter(|_| single).map_or(Real::NAN, |r| r[cell]);
@@ -110,7 +117,7 @@ impl Model {
             faces,
             outlines: chain_loops(&outline_edges),
             pinned,
-            rods: Vec::new(),
+            rods,
             muscle_phase: Vec::new(),
         }
     }
