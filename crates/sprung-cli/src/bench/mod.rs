@@ -224,23 +224,34 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
         let stepping = memory::mark();
         let in_use = start_mark.in_use_since();
         let (mut elapsed, mut taken, mut allocated) = (0.0, 0u32, 0);
+        let mut since_restart = 0u32;
         let longest = seconds.max(LONGEST_SECONDS);
         while taken == 0 || ((taken < steps || elapsed < seconds) && elapsed < longest) {
             let before = memory::allocated();
             let start = Instant::now();
             let result = world.step(dt);
-            elapsed += start.elapsed().as_secs_f64();
+            let took = start.elapsed().as_secs_f64();
             match result {
-                // A step that blew up allocates its error message: only
-                // the steps taken count.
+                // A step that blew up allocates its error message and is
+                // not a step of the case: only the steps taken count.
                 Ok(_) => {
                     taken += 1;
+                    since_restart += 1;
+                    elapsed += took;
                     allocated += memory::allocated() - before;
                 }
-                Err(e) if taken == 0 => {
+                // Blowing up before any step counts (or again at once after
+                // a restart) would never end: the case cannot be timed.
+                Err(e) if since_restart == 0 => {
                     return Err(CliError::Input(format!("bench, {}: {e}", case.name)))
                 }
-                Err(_) => (world, _) = warmed_up(case)?,
+                Err(_) => {
+                    since_restart = 0;
+                    // The blown-up world goes before the fresh one is built,
+                    // so the peak heap counts one world.
+                    drop(world);
+                    (world, _) = warmed_up(case)?;
+                }
             }
         }
         let kind = case.integrator;
