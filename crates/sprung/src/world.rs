@@ -344,28 +344,23 @@ impl World {
     fn check_limits(&self, data: &BodyData) -> Result<(), BuildError> {
         let limits = &self.settings;
         let g = self.gravity().length();
-        for (index, x) in data.position.iter().enumerate() {
-            let value = magnitude(*x);
-            if value > limits.max_distance {
-                return Err(BuildError::BeyondLimit {
-                    field: "particles",
-                    index,
-                    value,
-                    limit: limits.max_distance,
-                });
-            }
-        }
-        for (index, v) in data.velocity.iter().enumerate() {
-            let value = magnitude(*v);
-            if value > limits.max_speed {
-                return Err(BuildError::BeyondLimit {
-                    field: "velocities",
-                    index,
-                    value,
-                    limit: limits.max_speed,
-                });
-            }
-        }
+        let within = |field, vectors: &[Vec3], limit: Real| {
+            vectors.iter().enumerate().try_for_each(|(index, &x)| {
+                let value = magnitude(x);
+                if value > limit {
+                    Err(BuildError::BeyondLimit {
+                        field,
+                        index,
+                        value,
+                        limit,
+                    })
+                } else {
+                    Ok(())
+                }
+            })
+        };
+        within("particles", &data.position, limits.max_distance)?;
+        within("velocities", &data.velocity, limits.max_speed)?;
         let overflow = |field, index, value: Real, energy: Real| {
             (energy.is_nan() || energy >= crate::error::ENERGY_LIMIT).then_some(
                 BuildError::EnergyOverflow {
