@@ -7,6 +7,7 @@
 
 mod bench;
 mod check;
+mod checkpoint;
 
 /// Counts heap use, for the bench's peak memory and allocations per step.
 #[global_allocator]
@@ -104,6 +105,19 @@ pub struct RunOptions {
     /// Override the scene's integrator.
     #[arg(long)]
     integrator: Option<IntegratorKind>,
+    /// Save the world's state to FILE at the end of the run (also when it
+    /// is interrupted), to go on later with --resume.
+    #[arg(long, value_name = "FILE")]
+    save_state: Option<PathBuf>,
+    /// Also save the state every K steps (with --save-state), replacing the
+    /// last one atomically.
+    #[arg(long, value_name = "K", requires = "save_state", value_parser = values::at_least_one)]
+    checkpoint_every: Option<u64>,
+    /// Go on with a run from the state it saved: the same scene and --out;
+    /// --steps and --time count from the start, and the rows and frames
+    /// written are the same bytes as a run that never stopped.
+    #[arg(long, value_name = "FILE")]
+    resume: Option<PathBuf>,
 }
 
 fn main() -> ExitCode {

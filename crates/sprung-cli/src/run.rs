@@ -10,6 +10,7 @@ use sprung::{Real, StepError};
 use sprung_io::export::{self, Diagnostics};
 use sprung_io::{load_scene, Scene, SceneError};
 
+use crate::checkpoint;
 use crate::interrupt::{self, Signal};
 use crate::RunOptions;
 
@@ -110,40 +111,83 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
             particles.saturating_sub(1)
         )));
     }
+    let resumed = match &options.resume {
+        Some(path) => {
+            let resumed = checkpoint::resume(path, &mut scene)?;
+            if scene.world.steps() >= steps {
+                return Err(CliError::Input(format!(
+                    "{}: the state is at step {}, and this run ends at step {steps} (give a larger --steps or --time)",
+                    path.display(),
+                    scene.world.steps()
+                )));
+            }
+            Some(resumed)
+        }
+        None => None,
+    };
     let frames_dir = out.join("frames");
-    prepare_output(out, options.format.map(|_| frames_dir.as_path()))?;
+    let first_frame = resumed.map_or(0, |r| r.rows);
+    prepare_output(
+        out,
+        options.format.map(|_| frames_dir.as_path()),
+        first_frame,
+    )?;
     let io = |e: std::io::Error| CliError::Io(format!("cannot write to {}: {e}", out.display()));
-    let mut diagnostics =
-        Diagnostics::create(&out.join("diagnostics.csv"), &scene.world, &options.probe)
-            .map_err(io)?;
+    let csv = out.join("diagnostics.csv");
+    let mut diagnostics = match resumed {
+        None => Diagnostics::create(&csv, &scene.world, &options.probe).map_err(io)?,
+        Some(r) => Diagnostics::resume(&csv, &scene.world, &options.probe, r.rows)
+            .map_err(|e| CliError::Input(e.to_string()))?
+            .ok_or_else(|| {
+                CliError::Input(format!(
+                    "--resume goes on with the run in {}, but there is no diagnostics.csv there (give the --out of the run that saved the state)",
+                    out.display()
+                ))
+            })?,
+    };
     let mut frames = 0;
     let mut record =
         |world: &sprung::World, diagnostics: &mut Diagnostics| -> Result<(), CliError> {
+            // Frame n goes with row n, in a resumed run too.
+            let index = diagnostics.rows();
             diagnostics.record(world).map_err(io)?;
             if let Some(format) = options.format {
-                export::write_frame(&frames_dir, frames, world, format).map_err(io)?;
+                export::write_frame(&frames_dir, index, world, format).map_err(io)?;
                 frames += 1;
             }
             Ok(())
         };
-    record(&scene.world, &mut diagnostics)?;
+    let save = |world: &sprung::World, rows: usize| -> Result<(), CliError> {
+        match &options.save_state {
+            Some(path) => checkpoint::save(path, world, rows, scene.dt),
+            None => Ok(()),
+        }
+    };
+    if resumed.is_none() {
+        record(&scene.world, &mut diagnostics)?;
+    }
     interrupt::install();
     let progress = progress_bar(steps, options.quiet);
-    for step in 1..=steps {
+    progress.set_position(scene.world.steps());
+    let mut checkpoints = 0;
+    let first_step = scene.world.steps() + 1;
+    for step in first_step..=steps {
         if let Some(signal) = interrupt::received() {
             progress.abandon();
             let rows = diagnostics.rows();
             diagnostics.finish().map_err(io)?;
+            save(&scene.world, rows)?;
             let message = format!(
-                "stopped after step {} (t = {} s): {rows} rows in {}{}",
+                "stopped after step {} (t = {} s): {rows} rows in {}{}{}",
                 step - 1,
                 scene.world.time(),
-                out.join("diagnostics.csv").display(),
+                csv.display(),
                 if frames > 0 {
                     format!(", {frames} frames in {}", frames_dir.display())
                 } else {
                     String::new()
-                }
+                },
+                saved_note(options),
             );
             return Err(CliError::Interrupted(signal, message));
         }
@@ -168,15 +212,23 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
             Err(error) => {
                 progress.abandon();
                 diagnostics.finish().map_err(io)?;
-                let kept = format!(
+                let mut kept = format!(
                     "diagnostics up to the last good step are in {}",
-                    out.join("diagnostics.csv").display()
+                    csv.display()
                 );
+                if let (Some(path), true) = (&options.save_state, checkpoints > 0) {
+                    kept.push_str(&format!("; the last checkpoint is in {}", path.display()));
+                }
                 return Err(CliError::BlowUp(error, kept));
             }
         }
         if step % every == 0 || step == steps {
             record(&scene.world, &mut diagnostics)?;
+        }
+        if options.checkpoint_every.is_some_and(|k| step % k == 0) && step != steps {
+            diagnostics.flush().map_err(io)?;
+            save(&scene.world, diagnostics.rows())?;
+            checkpoints += 1;
         }
         if step % 256 == 0 {
             progress.set_position(step);
@@ -185,6 +237,9 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
     progress.finish_and_clear();
     let rows = diagnostics.rows();
     diagnostics.finish().map_err(io)?;
+    // The last row, recorded because the run ended there, is not one of
+    // the every-K rows a longer run has: a run resumed from here drops it.
+    save(&scene.world, rows - usize::from(steps % every != 0))?;
     let rods_off = scene.world.constraint_stats().unconverged_steps;
     if rods_off > 0 {
         eprintln!(
@@ -200,8 +255,12 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
     }
     if !options.quiet {
         println!(
-            "{}: {steps} steps of {} s ({} s simulated, {}), {rows} rows{} in {}",
+            "{}: {} of {} s ({} s simulated, {}), {rows} rows{} in {}{}",
             scene.path.display(),
+            match resumed {
+                Some(_) => format!("steps {first_step} to {steps}"),
+                None => format!("{steps} steps"),
+            },
             scene.dt,
             scene.world.time(),
             scene.world.integrator(),
@@ -210,7 +269,8 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
             } else {
                 String::new()
             },
-            out.display()
+            out.display(),
+            saved_note(options),
         );
     }
     Ok(())
@@ -280,9 +340,19 @@ pub(crate) fn planned_steps(
     }
 }
 
-/// Create the output folder and, for frames, an empty `frames/` (earlier
-/// frames of this run's format would mix into the new sequence).
-fn prepare_output(out: &Path, frames: Option<&Path>) -> Result<(), CliError> {
+/// `; state saved to FILE` where the run saves its state.
+fn saved_note(options: &RunOptions) -> String {
+    options
+        .save_state
+        .as_ref()
+        .map(|path| format!("; state saved to {}", path.display()))
+        .unwrap_or_default()
+}
+
+/// Create the output folder and, for frames, `frames/` without frames
+/// numbered from `first_frame` on (earlier frames of this run's format
+/// would mix into the new sequence; a resumed run keeps those before).
+fn prepare_output(out: &Path, frames: Option<&Path>, first_frame: usize) -> Result<(), CliError> {
     let fail = |e: std::io::Error, dir: &Path| {
         CliError::Io(format!("cannot create {}: {e}", dir.display()))
     };
@@ -292,7 +362,12 @@ fn prepare_output(out: &Path, frames: Option<&Path>) -> Result<(), CliError> {
         let stale = std::fs::read_dir(dir).map_err(|e| fail(e, dir))?;
         for entry in stale.flatten() {
             let name = entry.file_name();
-            if name.to_string_lossy().starts_with("frame_") {
+            let name = name.to_string_lossy();
+            let index = name
+                .strip_prefix("frame_")
+                .map(|rest| rest.split('.').next().unwrap_or_default().parse::<usize>());
+            // Kept: frames of a resumed run's earlier part.
+            if index.is_some_and(|n| n.map_or(true, |n| n >= first_frame)) {
                 std::fs::remove_file(entry.path()).map_err(|e| fail(e, dir))?;
             }
         }

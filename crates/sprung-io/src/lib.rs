@@ -4,13 +4,15 @@
 //! [`sprung::World`] ([`scene`]), mesh files from modelling tools
 //! ([`mesh`]: 3D Studio ASCII, OBJ, OFF, STL) with their topology checks,
 //! and the outputs of a run ([`export`]: `diagnostics.csv`, VTK and OBJ
-//! frame sequences), each written completely or not at all.
+//! frame sequences), each written completely or not at all; and state
+//! files to resume a run ([`state`]).
 
 pub mod demos;
 pub mod export;
 pub mod input;
 pub mod mesh;
 pub mod scene;
+pub mod state;
 
 pub use scene::{
     load_scene, parse_scene, parse_scene_with, Disk, FileSource, Scene, SceneCamera, SceneError,

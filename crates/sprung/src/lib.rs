@@ -35,6 +35,7 @@ pub mod measure;
 pub mod parallel;
 pub mod particles;
 pub mod springs;
+pub mod state;
 pub mod surface;
 pub mod world;
 
@@ -53,4 +54,5 @@ pub use integrate::IntegratorKind;
 pub use measure::Energies;
 pub use particles::Particles;
 pub use springs::Springs;
+pub use state::{StateError, WorldState};
 pub use world::{Settings, Substeps, World};

@@ -2,7 +2,8 @@
 //! volume, pressure and centroid, and probed particle positions (DESIGN.md
 //! "The command line").
 
-use std::io::{self, Write};
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, Write};
 use std::path::Path;
 
 use sprung::World;
@@ -23,23 +24,73 @@ impl Diagnostics {
     /// (particle indices, which the caller has checked).
     pub fn create(path: &Path, world: &World, probes: &[usize]) -> io::Result<Self> {
         let mut file = AtomicFile::create(path)?;
-        let mut header = String::from(
-            "step,time,kinetic,spring,gravity,gas,total,contact,gravitation,contacts,solver_iterations,solver_residual,substeps,step_size",
-        );
-        for body in &world.bodies {
-            for column in ["volume", "pressure", "cx", "cy", "cz"] {
-                header.push_str(&format!(",{}.{column}", body.name));
-            }
-        }
-        for p in probes {
-            header.push_str(&format!(",p{p}.x,p{p}.y,p{p}.z"));
-        }
-        writeln!(file, "{header}")?;
+        writeln!(file, "{}", header(world, probes))?;
         Ok(Diagnostics {
             file,
             probes: probes.to_vec(),
             rows: 0,
         })
+    }
+
+    /// Go on with the table of a run that stopped after `rows` rows: the
+    /// header and the first `rows` rows of `path` (or of the
+    /// `path.partial` a killed run left) are kept, later rows dropped, and
+    /// new rows follow. Refused when the file has other columns or fewer
+    /// rows. Returns `None` when there is neither file, and nothing is
+    /// written then.
+    pub fn resume(
+        path: &Path,
+        world: &World,
+        probes: &[usize],
+        rows: usize,
+    ) -> io::Result<Option<Self>> {
+        let partial = path.with_file_name(format!(
+            "{}.partial",
+            path.file_name().unwrap_or_default().to_string_lossy()
+        ));
+        // A killed run's rows are moved aside first: the new table is
+        // written under the `.partial` name.
+        let previous = partial.with_extension("previous");
+        let source = if path.is_file() {
+            path.to_path_buf()
+        } else if partial.is_file() {
+            std::fs::rename(&partial, &previous)?;
+            previous.clone()
+        } else {
+            return Ok(None);
+        };
+        let mut lines = BufReader::new(File::open(&source)?).lines();
+        let refuse = |what: String| {
+            io::Error::new(
+                io::ErrorKind::InvalidData,
+                format!(
+                    "{}: {what}, so the run cannot go on in it (use another --out)",
+                    source.display()
+                ),
+            )
+        };
+        let header = header(world, probes);
+        if lines.next().transpose()?.as_deref() != Some(header.as_str()) {
+            return Err(refuse(
+                "its columns are not this run's (another scene, or other --probe)".into(),
+            ));
+        }
+        let mut diagnostics = Diagnostics::create(path, world, probes)?;
+        for _ in 0..rows {
+            let Some(line) = lines.next().transpose()? else {
+                return Err(refuse(format!(
+                    "it has only {} rows where the state was saved after {rows}",
+                    diagnostics.rows
+                )));
+            };
+            writeln!(diagnostics.file, "{line}")?;
+            diagnostics.rows += 1;
+        }
+        drop(lines);
+        if source == previous {
+            std::fs::remove_file(&previous)?;
+        }
+        Ok(Some(diagnostics))
     }
 
     /// Append a row for the world's current state: `contacts` counts the
@@ -92,8 +143,30 @@ impl Diagnostics {
         self.rows
     }
 
+    /// Write the rows so far through to the (temporary) file, so that a
+    /// run killed after a checkpoint keeps them in `diagnostics.csv.partial`.
+    pub fn flush(&mut self) -> io::Result<()> {
+        self.file.flush()
+    }
+
     /// Finish the file and move it into place.
     pub fn finish(self) -> io::Result<()> {
         self.file.commit()
     }
+}
+
+/// The header row: the fixed columns, five per body, three per probe.
+fn header(world: &World, probes: &[usize]) -> String {
+    let mut header = String::from(
+        "step,time,kinetic,spring,gravity,gas,total,contact,gravitation,contacts,solver_iterations,solver_residual,substeps,step_size",
+    );
+    for body in &world.bodies {
+        for column in ["volume", "pressure", "cx", "cy", "cz"] {
+            header.push_str(&format!(",{}.{column}", body.name));
+        }
+    }
+    for p in probes {
+        header.push_str(&format!(",p{p}.x,p{p}.y,p{p}.z"));
+    }
+    header
 }

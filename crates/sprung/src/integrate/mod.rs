@@ -34,6 +34,7 @@ use crate::error::SolverError;
 use crate::forces::{JacobianScale, Jacobians, Linearization};
 use crate::parallel;
 use crate::springs::Springs;
+use crate::state::{StateError, WorldState};
 use crate::{Real, Vec3};
 
 /// A state of the system: time, positions and velocities.
@@ -165,6 +166,20 @@ pub trait Integrator: Send + std::fmt::Debug {
         system: &mut dyn Derivative,
         solver: &SolverSettings,
     ) -> Result<StepReport, SolverError>;
+    /// Add what this integrator carries from one step to the next (its
+    /// history) to `state`, for a checkpoint. Methods that start every step
+    /// afresh keep nothing: the default adds nothing, and an integrator
+    /// with a history must override this and [`Integrator::restore_history`].
+    fn save_history(&self, _state: &mut WorldState) {}
+    /// Take back the history [`Integrator::save_history`] saved, for
+    /// `particles` particles.
+    fn restore_history(
+        &mut self,
+        _state: &WorldState,
+        _particles: usize,
+    ) -> Result<(), StateError> {
+        Ok(())
+    }
 }
 
 /// The integrators a scene can name.

@@ -17,6 +17,7 @@
 use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::error::SolverError;
 use crate::parallel;
+use crate::state::{StateError, WorldState};
 use crate::{Real, Vec3};
 
 /// Dormand–Prince coefficients `a[i][j]` (stage `i` from stages `j < i`).
@@ -212,5 +213,13 @@ impl Integrator for RungeKutta45 {
             step_size: Some(last),
             ..StepReport::default()
         })
+    }
+    fn save_history(&self, state: &mut WorldState) {
+        state.put("rk45.next_step", vec![self.next_step]);
+    }
+
+    fn restore_history(&mut self, state: &WorldState, _particles: usize) -> Result<(), StateError> {
+        self.next_step = state.get("rk45.next_step", 1)?[0];
+        Ok(())
     }
 }

@@ -20,6 +20,7 @@
 use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::error::SolverError;
 use crate::parallel;
+use crate::state::{StateError, WorldState};
 use crate::{Real, Vec3};
 
 /// Position Verlet with its previous positions and the state it last wrote.
@@ -99,5 +100,23 @@ impl Integrator for Verlet {
             }
         });
         Ok(StepReport::default())
+    }
+
+    fn save_history(&self, state: &mut WorldState) {
+        state.put_vectors("verlet.previous_position", &self.previous_position);
+        state.put_vectors("verlet.written_position", &self.written_position);
+        state.put_vectors("verlet.written_velocity", &self.written_velocity);
+        state.put("verlet.last_dt", vec![self.last_dt]);
+    }
+
+    fn restore_history(&mut self, state: &WorldState, particles: usize) -> Result<(), StateError> {
+        // A run saved before its first step has no history yet.
+        let started = state.get("verlet.last_dt", 1)?[0] > 0.0;
+        let count = if started { particles } else { 0 };
+        self.previous_position = state.get_vectors("verlet.previous_position", count)?;
+        self.written_position = state.get_vectors("verlet.written_position", count)?;
+        self.written_velocity = state.get_vectors("verlet.written_velocity", count)?;
+        self.last_dt = state.get("verlet.last_dt", 1)?[0];
+        Ok(())
     }
 }

@@ -1,0 +1,333 @@
+//! Checkpoints: a run stopped half way with `--save-state` and resumed with
+//! `--resume` writes the same bytes in `diagnostics.csv` and in every frame
+//! as the run that never stopped; also after a signal, and after a kill
+//! that left only a periodic checkpoint and `diagnostics.csv.partial`. A
+//! damaged or foreign state file is refused and nothing is written.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::{sprung, text, write};
+
+/// A gas ball whose gas leaks from 0.02 s on, dropped on a floor.
+const LEAKING_BALL: &str = r#"[sim]
+dt = 2e-4
+integrator = "symplectic_euler"
+steps = 300
+
+[[body]]
+name = "ball"
+sphere = { radius = 0.5, subdivisions = 1 }
+total_mass = 1.0
+stiffness = 2000.0
+damping = 0.5
+translate = [0.0, 0.52, 0.0]
+gas = { nrt = 500.0, ramp_time = 0.01, leak_rate = 2.0, leak_start = 0.02 }
+
+[[collider]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+restitution = 0.3
+friction = 0.3
+"#;
+
+fn scene(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name)
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// Run `scene` (with `extra` options) for `steps` steps in one go, and again
+/// stopped after `half` steps and resumed; every byte of the diagnostics
+/// and the VTK frames must agree.
+fn assert_resumes_exactly(scene: &str, extra: &[&str], steps: u64, half: u64) {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let run = |out: &str, steps: u64, more: &[&str]| {
+        let steps = steps.to_string();
+        let mut args = vec![
+            "run", scene, "--steps", &steps, "--every", "10", "--format", "vtk", "--quiet",
+            "--out", out,
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(more);
+        let output = sprung(&args, d);
+        assert!(output.status.success(), "{}", text(&output.stderr));
+    };
+    run("whole", steps, &[]);
+    run("parts", half, &["--save-state", "state.bin"]);
+    run("parts", steps, &["--resume", "state.bin"]);
+    assert_same_outputs(&d.join("whole"), &d.join("parts"));
+    common::assert_no_partial_files(d);
+}
+
+/// The same `diagnostics.csv` and the same frames, byte for byte.
+fn assert_same_outputs(whole: &Path, parts: &Path) {
+    let csv = |dir: &Path| std::fs::read(dir.join("diagnostics.csv")).expect("diagnostics.csv");
+    let (a, b) = (csv(whole), csv(parts));
+    assert!(
+        a == b,
+        "diagnostics differ:\n{}\n---\n{}",
+        String::from_utf8_lossy(&a),
+        String::from_utf8_lossy(&b)
+    );
+    let mut names: Vec<_> = std::fs::read_dir(whole.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert!(names.len() > 2, "frames were written");
+    for name in names {
+        let frame = |dir: &Path| std::fs::read(dir.join("frames").join(&name)).expect("frame");
+        assert!(frame(whole) == frame(parts), "{name:?} differs");
+    }
+    let count = |dir: &Path| std::fs::read_dir(dir.join("frames")).unwrap().count();
+    assert_eq!(count(whole), count(parts), "no extra frames");
+}
+
+#[test]
+fn cloth_in_wind_resumes_exactly() {
+    assert_resumes_exactly(&scene("flag.toml"), &[], 400, 170);
+}
+
+#[test]
+fn leaking_gas_ball_resumes_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(dir.path(), "leak.toml", LEAKING_BALL);
+    assert_resumes_exactly(path.to_str().unwrap(), &[], 300, 150);
+}
+
+#[test]
+fn verlet_resumes_exactly_with_its_history() {
+    assert_resumes_exactly(&scene("flag.toml"), &["--integrator", "verlet"], 300, 120);
+}
+
+#[test]
+fn adaptive_rk45_resumes_exactly_with_its_next_step() {
+    assert_resumes_exactly(&scene("orbit.toml"), &["--integrator", "rk45"], 200, 90);
+}
+
+#[test]
+fn muscles_rods_and_rigid_bodies_resume_exactly() {
+    assert_resumes_exactly(&scene("walker.toml"), &[], 400, 130);
+    assert_resumes_exactly(&scene("dice.toml"), &[], 400, 210);
+}
+
+#[test]
+fn implicit_solvers_resume_exactly() {
+    let stiff = scene("stiff_cloth.toml");
+    assert_resumes_exactly(&stiff, &["--integrator", "projective"], 20, 7);
+    assert_resumes_exactly(&stiff, &["--integrator", "implicit_euler"], 20, 5);
+}
+
+/// A run killed outright (SIGKILL) after a periodic checkpoint leaves the
+/// state and `diagnostics.csv.partial`; resuming goes on from the
+/// checkpoint with the same bytes as a run that never stopped.
+#[test]
+fn a_killed_run_resumes_from_its_last_checkpoint() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let flag = scene("flag.toml");
+    let output = sprung(
+        &[
+            "run", &flag, "--steps", "40000", "--every", "500", "--format", "vtk", "--quiet",
+            "--out", "whole",
+        ],
+        d,
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sprung"))
+        .args([
+            "run",
+            &flag,
+            "--steps",
+            "40000",
+            "--every",
+            "500",
+            "--format",
+            "vtk",
+            "--quiet",
+            "--out",
+            "parts",
+            "--save-state",
+            "state.bin",
+            "--checkpoint-every",
+            "1000",
+        ])
+        .current_dir(d)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("sprung starts");
+    let start = Instant::now();
+    while !d.join("state.bin").exists() {
+        assert!(start.elapsed() < Duration::from_secs(60), "no checkpoint");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().expect("kill");
+    child.wait().expect("sprung ends");
+    let csv = d.join("parts/diagnostics.csv");
+    assert!(!csv.exists(), "a killed run commits nothing");
+    let output = sprung(
+        &[
+            "run",
+            &flag,
+            "--steps",
+            "40000",
+            "--every",
+            "500",
+            "--format",
+            "vtk",
+            "--quiet",
+            "--out",
+            "parts",
+            "--resume",
+            "state.bin",
+        ],
+        d,
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert_same_outputs(&d.join("whole"), &d.join("parts"));
+    common::assert_no_partial_files(d);
+}
+
+/// SIGINT with `--save-state` saves the state at the step it stopped at; the
+/// resumed run completes the same table.
+#[test]
+fn an_interrupted_run_saves_its_state_and_resumes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let flag = scene("flag.toml");
+    let args = [
+        "run", &flag, "--steps", "40000", "--every", "500", "--format", "vtk", "--quiet",
+    ];
+    let output = sprung(&[&args[..], &["--out", "whole"]].concat(), d);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let child = Command::new(env!("CARGO_BIN_EXE_sprung"))
+        .args(args)
+        .args(["--out", "parts", "--save-state", "state.bin"])
+        .current_dir(d)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("sprung starts");
+    let start = Instant::now();
+    while std::fs::read_dir(d.join("parts/frames")).map_or(0, |f| f.count()) < 3 {
+        assert!(start.elapsed() < Duration::from_secs(60), "no frames");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let status = Command::new("kill")
+        .args(["-s", "INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(status.success());
+    let output = child.wait_with_output().expect("sprung ends");
+    let stderr = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("state saved to state.bin"), "{stderr}");
+    let output = sprung(
+        &[&args[..], &["--out", "parts", "--resume", "state.bin"]].concat(),
+        d,
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert_same_outputs(&d.join("whole"), &d.join("parts"));
+}
+
+/// A damaged state, a state of another scene, one at or past the end of
+/// the run, and one without the run's diagnostics are refused with a
+/// sentence naming the file; the output folder is left as it was.
+#[test]
+fn bad_states_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let flag = scene("flag.toml");
+    let base = ["run", &flag, "--steps", "40", "--every", "10", "--quiet"];
+    let output = sprung(
+        &[&base[..], &["--out", "out", "--save-state", "state.bin"]].concat(),
+        d,
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let before = std::fs::read(d.join("out/diagnostics.csv")).unwrap();
+    let state = std::fs::read(d.join("state.bin")).unwrap();
+    let refused = |args: &[&str], expected: &str| {
+        let output = sprung(args, d);
+        let stderr = text(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert_eq!(
+            std::fs::read(d.join("out/diagnostics.csv")).unwrap(),
+            before
+        );
+    };
+    fn resume<'a>(base: &[&'a str], file: &'a str) -> Vec<&'a str> {
+        [
+            &base[..2],
+            &["--steps", "80", "--out", "out", "--resume", file],
+        ]
+        .concat()
+    }
+    // One bit flipped in a position: the checksum catches it.
+    let mut damaged = state.clone();
+    let middle = damaged.len() / 2;
+    damaged[middle] ^= 0x10;
+    std::fs::write(d.join("damaged.bin"), &damaged).unwrap();
+    refused(
+        &resume(&base, "damaged.bin"),
+        "damaged.bin: the state file is damaged",
+    );
+    std::fs::write(d.join("short.bin"), &state[..state.len() - 9]).unwrap();
+    refused(&resume(&base, "short.bin"), "damaged");
+    std::fs::write(d.join("text.bin"), "[sim]\ndt = 1\n").unwrap();
+    refused(&resume(&base, "text.bin"), "not a sprung state file");
+    refused(&resume(&base, "missing.bin"), "missing.bin");
+    let mut future = state.clone();
+    future[13] = 9;
+    std::fs::write(d.join("future.bin"), &future).unwrap();
+    refused(&resume(&base, "future.bin"), "format 9");
+    // The state of another scene.
+    let ball = scene("ball3d.toml");
+    refused(
+        &[
+            "run",
+            &ball,
+            "--steps",
+            "80",
+            "--out",
+            "out",
+            "--resume",
+            "state.bin",
+        ],
+        "another scene",
+    );
+    // Another integrator's history is not used: it starts afresh (allowed).
+    // A state at the end of the run has nothing left to do.
+    refused(
+        &[&base[..], &["--out", "out", "--resume", "state.bin"]].concat(),
+        "the state is at step 40",
+    );
+    // A folder without the run's diagnostics.
+    let output = sprung(
+        &[
+            &base[..2],
+            &[
+                "--steps",
+                "80",
+                "--out",
+                "elsewhere",
+                "--resume",
+                "state.bin",
+            ],
+        ]
+        .concat(),
+        d,
+    );
+    assert_eq!(output.status.code(), Some(1));
+    assert!(text(&output.stderr).contains("no diagnostics.csv"));
+    // --checkpoint-every needs --save-state: a usage error.
+    let output = sprung(&[&base[..], &["--checkpoint-every", "5"]].concat(), d);
+    assert_eq!(output.status.code(), Some(2));
+}
