@@ -6,6 +6,7 @@ use std::path::Path;
 
 use sprung_io::load_scene;
 
+use crate::bench::memory;
 use crate::run::CliError;
 
 /// Bytes per particle of the world's state (position, velocity, force,
@@ -19,7 +20,9 @@ const SPRING_BYTES: u64 = 4 + 4 + 3 * 8 + 1 + 8;
 /// Check the scene at `path`: exit status 0 when it loads, 1 (with the
 /// error) when it does not.
 pub fn run(path: &Path) -> Result<(), CliError> {
+    let loading = memory::mark();
     let scene = load_scene(path)?;
+    let load_peak = loading.peak();
     let world = &scene.world;
     let faces: usize = world.bodies.iter().map(|b| b.faces.len()).sum();
     let segments: usize = world.bodies.iter().map(|b| b.segments.len()).sum();
@@ -39,6 +42,12 @@ pub fn run(path: &Path) -> Result<(), CliError> {
         world.rigid.list.len(),
     );
     println!("  memory while running: about {:.1} MB", bytes as f64 / 1e6);
+    let file_bytes = std::fs::metadata(path).map_or(0, |m| m.len());
+    println!(
+        "  memory while loading: {:.1} MB at most (the file: {:.1} MB)",
+        load_peak as f64 / 1e6,
+        file_bytes as f64 / 1e6
+    );
     println!(
         "  {} steps of dt = {} s with {} ({} s)",
         scene.steps,

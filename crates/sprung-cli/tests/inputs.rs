@@ -158,3 +158,78 @@ fn work_beyond_the_budgets_is_refused_with_the_figures() {
         "`refine` = 5 would make 8.19e6 triangles",
     );
 }
+
+/// The peak heap `sprung check` reports while loading `scene`, and the
+/// file's size, in bytes.
+fn loading_memory(dir: &std::path::Path, scene: &str) -> (f64, f64) {
+    let output = common::sprung(&["check", scene], dir);
+    let stdout = text(&output.stdout);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let line = stdout
+        .lines()
+        .find(|l| l.contains("memory while loading"))
+        .expect("the loading line");
+    let figure = |after: &str| -> f64 {
+        let rest = &line[line.find(after).expect("figure") + after.len()..];
+        let number: String = rest
+            .trim_start()
+            .chars()
+            .take_while(|c| c.is_ascii_digit() || *c == '.')
+            .collect();
+        number.parse::<f64>().expect("a number") * 1e6
+    };
+    (figure("loading:"), figure("the file:"))
+}
+
+/// Loading a scene takes a small multiple of its file, many small bodies
+/// or one body with long arrays alike: the TOML parser reads one body at a
+/// time, and long arrays go straight into vectors (its tree of the whole
+/// file took about 45 times the file). The bound, 16 times the file, is
+/// the world the text describes (a particle of 25 bytes of text, `[0.123,
+/// 4.567, 0.0], `, is about 200 bytes of state with its body's share)
+/// with room for the parse of one body; the old parser fails it three
+/// times over.
+#[test]
+fn loading_memory_is_a_small_multiple_of_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut ropes = String::from("[sim]\ndt = 1e-3\nsteps = 1\n");
+    for i in 0..15_000 {
+        ropes.push_str(&format!(
+            "\n[[body]]\nname = \"r{i}\"\nrope = {{ particles = 3, length = 1.0 }}\nmass = 0.01\nstiffness = 10.0\ntranslate = [{i}.0, 0.0, 0.0]\n"
+        ));
+    }
+    write(d, "ropes.toml", &ropes);
+    let n = 200;
+    let mut grid =
+        String::from("[sim]\ndt = 1e-3\nsteps = 1\n\n[[body]]\nname = \"grid\"\nparticles = [\n");
+    for k in 0..n * n {
+        grid.push_str(&format!(
+            "[{:.3}, {:.3}, 0.0],\n",
+            (k % n) as f64 * 0.01,
+            (k / n) as f64 * 0.01
+        ));
+    }
+    grid.push_str("]\nsprings = [\n");
+    for k in 0..n * n {
+        if k % n + 1 < n {
+            grid.push_str(&format!("[{k}, {}], ", k + 1));
+        }
+        if k + n < n * n {
+            grid.push_str(&format!("[{k}, {}],\n", k + n));
+        }
+    }
+    grid.push_str("]\nmass = 0.01\nstiffness = 100.0\n");
+    write(d, "grid.toml", &grid);
+    for scene in ["ropes.toml", "grid.toml"] {
+        let (peak, file) = loading_memory(d, scene);
+        assert!(
+            file > 1e6,
+            "{scene}: a file of {file} bytes is too small to tell"
+        );
+        assert!(
+            peak < 16.0 * file,
+            "{scene}: loading took {peak:.3e} bytes for a file of {file:.3e}"
+        );
+    }
+}

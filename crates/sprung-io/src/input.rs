@@ -2,8 +2,10 @@
 //! such as `/dev/zero`, a pipe or a folder, also behind a link), and at
 //! most a size limit, so that no input can exhaust memory before it is
 //! refused: [`DEFAULT_MAX_INPUT_BYTES`] for mesh files, and
-//! [`DEFAULT_MAX_SCENE_BYTES`] for scene files, whose TOML parser holds
-//! about fifty times the file while it reads (its tokens and events).
+//! [`DEFAULT_MAX_SCENE_BYTES`] for scene files (loading one takes about
+//! twelve times the file at most, nearly all of it the world it describes:
+//! bodies are parsed one at a time and long arrays read straight into
+//! vectors, see `scene::sections`).
 
 use std::io::Read;
 use std::path::Path;
@@ -12,8 +14,8 @@ use std::path::Path;
 /// any scene or mesh the demos use (the 4002-vertex horse is 0.3 MB).
 pub const DEFAULT_MAX_INPUT_BYTES: u64 = 256 << 20;
 
-/// The largest scene file read by default (bytes): 16 MiB, some 800 MB
-/// while it is parsed; a scene's large data belongs in mesh files.
+/// The largest scene file read by default (bytes): 16 MiB, some 200 MB
+/// while it loads; a scene's large data belongs in mesh files.
 pub const DEFAULT_MAX_SCENE_BYTES: u64 = 16 << 20;
 
 /// The environment variable that overrides both limits (a number of

@@ -24,6 +24,13 @@ pub(crate) struct SceneFile {
     pub gravitation: Option<Spanned<GravitationTable>>,
 }
 
+/// One `[[body]]` section of the file, parsed on its own.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct BodySection {
+    pub body: Vec<Spanned<BodyTable>>,
+}
+
 /// `[gravitation]`: mutual gravitation between the bodies' particles.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
