@@ -151,6 +151,15 @@ pub fn read_state(path: &Path, world: &World) -> Result<WorldState, StateFileErr
             source,
         }
     })?;
+    decode_state(&bytes, world, path)
+}
+
+/// [`read_state`] of a state file's `bytes`; `path` names it in errors.
+pub fn decode_state(
+    bytes: &[u8],
+    world: &World,
+    path: &Path,
+) -> Result<WorldState, StateFileError> {
     let damaged = |what| StateFileError::Damaged {
         path: path.to_path_buf(),
         what,
