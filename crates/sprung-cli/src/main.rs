@@ -1,5 +1,5 @@
 //! `sprung`: run scene files and demos, write diagnostics and frames, and
-//! measure speed. The command line is a contract (DESIGN.md): add to it,
+//! measure speed. The command line is a contract (README.md, "Usage"): add to it,
 //! never change it.
 //!
 //! Exit status: 0 on success, 1 for bad input or a file that cannot be

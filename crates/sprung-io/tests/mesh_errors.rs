@@ -4,14 +4,14 @@
 
 mod common;
 
-use common::meshes_dir;
+use common::mesh_path;
 
 use std::path::Path;
 
 use sprung_io::mesh::{parse_mesh, MeshError, MeshErrorKind, MeshFormat, TriangleMesh};
 
-fn shared_text(name: &str) -> String {
-    let path = meshes_dir().join(name);
+fn mesh_text(name: &str) -> String {
+    let path = mesh_path(name);
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
@@ -54,7 +54,7 @@ fn first_lines(text: &str, count: usize) -> String {
 #[test]
 fn asc_face_index_out_of_range() {
     let text = with_line(
-        &shared_text("cube.asc"),
+        &mesh_text("cube.asc"),
         13,
         "Face 0: A:9 B:1 C:2 AB:1 BC:1 CA:1",
     );
@@ -66,7 +66,7 @@ fn asc_face_index_out_of_range() {
 
 #[test]
 fn asc_counts_that_disagree_with_the_header() {
-    let cube = shared_text("cube.asc");
+    let cube = mesh_text("cube.asc");
     let text = with_line(&cube, 2, "Tri-mesh, Vertices: 9 Faces: 12");
     assert_eq!(
         error_of(&text, "cube.asc").to_string(),
@@ -87,7 +87,7 @@ fn asc_counts_that_disagree_with_the_header() {
 
 #[test]
 fn asc_truncated_file() {
-    let cube = shared_text("cube.asc");
+    let cube = mesh_text("cube.asc");
     // Cut after line 8 (vertex 4).
     let err = error_of(&first_lines(&cube, 8), "cube.asc");
     assert!(matches!(err.kind, MeshErrorKind::Truncated(_)), "{err}");
@@ -112,7 +112,7 @@ fn asc_truncated_file() {
 
 #[test]
 fn asc_coordinates_that_are_not_finite() {
-    let cube = shared_text("cube.asc");
+    let cube = mesh_text("cube.asc");
     for (value, line) in [("nan", 4), ("inf", 5), ("1e999", 11)] {
         let text = with_line(
             &cube,
@@ -152,7 +152,7 @@ fn asc_structure_errors() {
 
 #[test]
 fn text_that_is_not_utf8() {
-    let mut bytes = shared_text("cube.asc").into_bytes();
+    let mut bytes = mesh_text("cube.asc").into_bytes();
     // Offset of line 3: just after the second line feed.
     let third_line = 1 + bytes
         .iter()
@@ -246,7 +246,7 @@ fn obj_errors_name_the_line() {
 
 #[test]
 fn off_errors_name_the_line() {
-    let sphere = shared_text("sphere_low.off");
+    let sphere = mesh_text("sphere_low.off");
     let lines = sphere.lines().count();
     // Line 1 `OFF`, line 2 the counts, then 589 vertex and 1174 face lines.
     assert_eq!(lines, 2 + 589 + 1174);
@@ -304,7 +304,7 @@ fn off_errors_name_the_line() {
 
 #[test]
 fn stl_errors() {
-    let ico = shared_text("icosahedron_ascii.stl");
+    let ico = mesh_text("icosahedron_ascii.stl");
     // Cut after line 10, inside the second facet.
     let err = error_of(&first_lines(&ico, 10), "i.stl");
     assert_eq!(

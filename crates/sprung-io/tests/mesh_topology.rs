@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::meshes_dir;
+use common::mesh_path;
 
 use std::path::{Path, PathBuf};
 
@@ -13,7 +13,7 @@ use sprung_io::mesh::{
 };
 
 fn load_one(name: &str) -> (TriangleMesh, PathBuf) {
-    let path = meshes_dir().join(name);
+    let path = mesh_path(name);
     let meshes = load_mesh_file(&path).unwrap_or_else(|e| panic!("{e}"));
     let mesh = select_object(meshes, None, &path).unwrap_or_else(|e| panic!("{e}"));
     (mesh, path)
@@ -136,7 +136,7 @@ fn inconsistently_oriented_triangles_are_made_consistent() {
         };
         assert!(!edge_report(&mixed.triangles).misoriented.is_empty());
         // A connected closed orientable surface has exactly two consistent
-        // orientations; the outward one is the file's (SOURCES.md).
+        // orientations; the outward one is the file's (the meshes README).
         let repaired = closed_surface(&mixed, &path).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(repaired.triangles, original.triangles, "{name}");
     }

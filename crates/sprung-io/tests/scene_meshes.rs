@@ -1,6 +1,6 @@
-//! Bodies from mesh files in scenes: every file of `shared/meshes` loads
+//! Bodies from mesh files in scenes: every file of `tests/meshes` loads
 //! into a world, the engine's divergence-theorem volume of each closed
-//! mesh is the one `SOURCES.md` states, and an open object is refused as a
+//! mesh is the one `the meshes README` states, and an open object is refused as a
 //! gas body (naming the file, the object and the first boundary edge) but
 //! accepted as cloth.
 
@@ -8,7 +8,7 @@ mod common;
 
 use std::path::Path;
 
-use common::meshes_dir;
+use common::mesh_path;
 use sprung_io::parse_scene;
 
 /// A scene with one mesh body; `extra` lines are added to the body table.
@@ -20,7 +20,7 @@ fn scene(mesh: &Path, extra: &str) -> String {
 }
 
 fn world_volume(file: &str, extra: &str) -> f64 {
-    let path = meshes_dir().join(file);
+    let path = mesh_path(file);
     let text = scene(&path, extra);
     let scene = parse_scene(&text, Path::new("mesh.toml")).unwrap_or_else(|e| panic!("{e}"));
     scene.world.volume(0).expect("a closed body has a volume")
@@ -36,11 +36,10 @@ fn cube_asc_encloses_exactly_8() {
 
 #[test]
 fn closed_meshes_have_the_volumes_of_sources_md() {
-    // SOURCES.md prints 5 or 6 significant digits: compare to half a unit
+    // the meshes README prints 5 or 6 significant digits: compare to half a unit
     // of the last printed digit.
-    let cases: [(&str, &str, f64, f64); 7] = [
+    let cases: [(&str, &str, f64, f64); 6] = [
         ("horse.obj", "", 2.6304e-4, 0.00005e-4),
-        ("bunny.obj", "", 0.74933, 0.000005),
         ("spot_low_resolution.obj", "", 0.67973, 0.000005),
         ("sphere.obj", "", 4.15268, 0.000005),
         ("sphere_low.off", "", 0.099471, 0.0000005),
@@ -66,7 +65,7 @@ fn mesh_bodies_get_edge_and_bending_springs() {
     // The icosahedron has 30 edges. The two triangles of an edge u-v have
     // opposite vertices p, q whose only common neighbours are u and v, so
     // each edge gives a distinct bending pair: 30 more springs.
-    let path = meshes_dir().join("icosahedron_ascii.stl");
+    let path = mesh_path("icosahedron_ascii.stl");
     let count = |extra: &str| {
         let scene = parse_scene(&scene(&path, extra), Path::new("m.toml"))
             .unwrap_or_else(|e| panic!("{e}"));
@@ -82,7 +81,7 @@ fn mesh_bodies_get_edge_and_bending_springs() {
 
 #[test]
 fn the_open_object_of_uusalku_is_refused_as_a_gas_body_and_accepted_as_cloth() {
-    let path = meshes_dir().join("UUSALKU.ASC");
+    let path = mesh_path("UUSALKU.ASC");
     let text = scene(&path, "object = \"s01\"\ngas = { nrt = 1.0 }");
     let message = parse_scene(&text, Path::new("ship.toml"))
         .expect_err("open")
@@ -110,7 +109,7 @@ fn the_open_object_of_uusalku_is_refused_as_a_gas_body_and_accepted_as_cloth() {
 
 #[test]
 fn a_multi_object_file_needs_an_object_name() {
-    let path = meshes_dir().join("UUSALKU.ASC");
+    let path = mesh_path("UUSALKU.ASC");
     let message = parse_scene(&scene(&path, ""), Path::new("m.toml"))
         .expect_err("ambiguous")
         .to_string();
@@ -126,7 +125,7 @@ fn a_multi_object_file_needs_an_object_name() {
 
 #[test]
 fn gas_and_surface_keys_are_checked() {
-    let path = meshes_dir().join("cube.asc");
+    let path = mesh_path("cube.asc");
     let cases = [
         ("gas = { nrt = -1.0 }", "`gas.nrt` = -1"),
         (
@@ -189,7 +188,7 @@ fn rings_and_spheres_from_scene_keys() {
     let n = 17.0_f64;
     let area = 0.5 * n * 0.25 * (std::f64::consts::TAU / n).sin();
     assert!((scene.world.volume(0).expect("closed") - area).abs() < 1e-12);
-    // SOURCES.md: sphere.obj is the same 3-level unit icosphere, +4.15268.
+    // the meshes README: sphere.obj is the same 3-level unit icosphere, +4.15268.
     assert!((scene.world.volume(1).expect("closed") - 4.15268).abs() < 5e-6);
     assert_eq!(scene.world.bodies[1].particles.len(), 642);
 }
@@ -199,7 +198,7 @@ fn a_lattice_fills_the_textbook_cube_and_holds_its_shape_without_gas() {
     // cube.asc has side 2: at spacing 0.5, floor(2 / 0.5) = 4 points fit
     // along each axis, centred: at ±0.25 and ±0.75, all strictly inside, so
     // 4³ = 64 lattice particles join the surface.
-    let path = meshes_dir().join("cube.asc");
+    let path = mesh_path("cube.asc");
     let text = format!(
         "[sim]\ndt = 2e-4\nsteps = 1\n\n[[body]]\nname = \"m\"\nmesh = \"{}\"\nrefine = 1\nbending = false\ntotal_mass = 1.0\nstiffness = 500.0\ndamping = 0.5\ntranslate = [0.0, 1.2, 0.0]\ninternal = \"lattice\"\nlattice_spacing = 0.5\n\n[[collider]]\nplane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}\nfriction = 0.5\n",
         path.display()
@@ -237,7 +236,7 @@ fn a_lattice_fills_the_textbook_cube_and_holds_its_shape_without_gas() {
 fn lattice_spacing_is_in_scene_metres_after_scaling() {
     // cube.asc scaled ×2 has side 4: at spacing 1 m, 4 points fit along each
     // axis, as at spacing 0.5 m on the unscaled cube: 64 lattice particles.
-    let path = meshes_dir().join("cube.asc");
+    let path = mesh_path("cube.asc");
     let text = scene(
         &path,
         "scale = 2.0\ninternal = \"lattice\"\nlattice_spacing = 1.0\nbending = false",

@@ -24,7 +24,7 @@ pub struct SpringData {
     pub stiffness: Real,
     /// Damping along the spring (N·s/m).
     pub damping: Real,
-    /// Apply the force to the second particle only (PHYSICS.md §1).
+    /// Apply the force to the second particle only (docs/physics.md §1).
     pub one_sided: bool,
 }
 

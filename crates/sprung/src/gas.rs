@@ -1,4 +1,4 @@
-//! The ideal gas inside a closed body (PHYSICS.md §4): `P = nRT / V`, with
+//! The ideal gas inside a closed body (docs/physics.md §4): `P = nRT / V`, with
 //! `nRT` (J) following a schedule in time.
 //!
 //! Switching the full pressure on at once blows a body apart, so `nRT`

@@ -3,7 +3,7 @@
 //! Bodies are point masses ([`Particles`]) joined by damped springs
 //! ([`Springs`]). A [`World`] holds them together with the forces acting on
 //! them, the colliders they hit and the time integrator that moves them.
-//! The physics follows `PHYSICS.md` (the classic mass-spring-damper model of
+//! The physics follows `docs/physics.md` (the classic mass-spring-damper model of
 //! elastic materials); every quantity is in SI units (m, kg, s, N).
 //!
 //! The engine is pure: it reads no files and draws nothing. Scene files,

@@ -73,7 +73,7 @@ pub fn centroid(particles: &Particles, body: &Body) -> Vec3 {
 /// plus the penalty stiffness of colliders over `m_i`, plus, for each
 /// candidate contact pair of the step it is part of, twice the contact's
 /// stiffness over `m_i` (its closest-point weights sum to at most 2 on each
-/// side). For a uniform chain this gives PHYSICS.md's `ω_max = 2 √(k/m)`.
+/// side). For a uniform chain this gives docs/physics.md's `ω_max = 2 √(k/m)`.
 /// `γ_max` is the same bound for the damping coefficients (it limits
 /// explicit steps of a heavily damped system). Symplectic Euler and Verlet
 /// are stable below this step; explicit Euler is never strictly stable on

@@ -8,7 +8,7 @@ use crate::Real;
 /// The next number [`Springs::topology`] hands out.
 static NEXT_TOPOLOGY: AtomicU64 = AtomicU64::new(1);
 
-/// The damped springs of a world (PHYSICS.md §1), stored as parallel arrays.
+/// The damped springs of a world (docs/physics.md §1), stored as parallel arrays.
 ///
 /// Spring `s` joins particles `first()[s]` and `second()[s]`. A *one-sided*
 /// spring pushes and pulls only its `second` (child) particle: rope builders

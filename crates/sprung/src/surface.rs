@@ -1,5 +1,5 @@
 //! Closed surfaces: the triangles (3D) or segments (2D) that bound a body,
-//! their edges, and the volume (area in 2D) they enclose (PHYSICS.md §4).
+//! their edges, and the volume (area in 2D) they enclose (docs/physics.md §4).
 //!
 //! The volume comes from the divergence theorem with the field
 //! `F = (x, 0, 0)`, whose divergence is 1:
@@ -58,7 +58,7 @@ pub fn enclosed_area(position: &[Vec3], segments: &[[u32; 2]]) -> Real {
     })
 }
 
-/// The textbook's 2D "volume" (PHYSICS.md §4): `Σ ½ |x1 - x2| |n_x| d`
+/// The textbook's 2D "volume" (docs/physics.md §4): `Σ ½ |x1 - x2| |n_x| d`
 /// over the segments. Wrong: it is `Σ ½ |Δx| |Δy|`, about `2πR²/N` for a
 /// regular N-gon and 0 for an axis-aligned square. Not used by the engine.
 pub fn textbook_segment_area(position: &[Vec3], segments: &[[u32; 2]]) -> Real {

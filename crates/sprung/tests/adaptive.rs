@@ -1,4 +1,4 @@
-//! Time steps that adapt (PHYSICS.md §6): the embedded Runge–Kutta pair
+//! Time steps that adapt (docs/physics.md §6): the embedded Runge–Kutta pair
 //! `rk45` (Dormand–Prince 5(4)) chooses its own internal steps, and
 //! `substeps = "auto"` splits each step of the explicit integrators into as
 //! many as the stability estimate asks. Claims: on motions that are fast

@@ -1,4 +1,4 @@
-//! Stability (PHYSICS.md §6): explicit methods are stable only below about
+//! Stability (docs/physics.md §6): explicit methods are stable only below about
 //! `2 / ω_max`, with `ω_max ≈ 2 √(k/m)` for a chain. The engine estimates
 //! that step, stops a run that blows up with the step number and the
 //! estimate, and refuses time steps that are not positive and finite.
@@ -16,7 +16,7 @@ const MASS: Real = 0.01; // kg
 const STIFFNESS: Real = 1e4; // N/m: √(k/m) = 1000 rad/s
 const SPACING: Real = 0.1; // m
 
-/// `1 / √(k/m)` (s): PHYSICS.md's `2 / ω_max` with `ω_max = 2 √(k/m)`.
+/// `1 / √(k/m)` (s): docs/physics.md's `2 / ω_max` with `ω_max = 2 √(k/m)`.
 fn analytical_stable_dt() -> Real {
     1.0 / (STIFFNESS / MASS).sqrt()
 }

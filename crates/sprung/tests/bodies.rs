@@ -1,6 +1,6 @@
 //! Bodies: what the builders lay out (exact spring and face counts), what
 //! placement does, that a 26-neighbour lattice holds its shape, and that bad
-//! input is refused with an error naming the field (DESIGN.md principle 6).
+//! input is refused with an error naming the field (a clear error, never a panic).
 
 use sprung::build::{self, ClothSprings};
 use sprung::{
@@ -443,7 +443,7 @@ fn a_dropped_26_neighbour_lattice_holds_its_shape() {
 #[test]
 fn a_dropped_6_neighbour_lattice_collapses() {
     // The control for the test above: with springs only along the cell
-    // edges the lattice has no shear stiffness (PHYSICS.md §2). Friction
+    // edges the lattice has no shear stiffness (docs/physics.md §2). Friction
     // shears it as it lands sliding, and gravity then folds it flat.
     let (height, rest) = dropped_lattice_height(true);
     assert!(

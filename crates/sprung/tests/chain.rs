@@ -1,4 +1,4 @@
-//! Chains of masses and springs (PHYSICS.md §7): the static stretch of a
+//! Chains of masses and springs (docs/physics.md §7): the static stretch of a
 //! hanging chain, with two-sided and one-sided springs, and the normal-mode
 //! frequencies of a chain pinned at both ends.
 

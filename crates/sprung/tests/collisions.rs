@@ -1,4 +1,4 @@
-//! Plane colliders (PHYSICS.md §5): the projection form's restitution
+//! Plane colliders (docs/physics.md §5): the projection form's restitution
 //! (a drop from `h` bounces to `e² h`) and Coulomb friction (a slide
 //! decelerates at `μ g`), and the penalty form's static depth `m g / k_c`.
 

@@ -1,4 +1,4 @@
-//! Conservation laws (PHYSICS.md §1, §6): springs conserve linear momentum
+//! Conservation laws (docs/physics.md §1, §6): springs conserve linear momentum
 //! with every integrator; on the undamped oscillator explicit Euler's energy
 //! grows by exactly `(1 + h²)` per step while symplectic Euler and Verlet
 //! keep it in a band of known width forever.
@@ -102,7 +102,7 @@ fn springs_conserve_momentum_in_a_lattice() {
 
 #[test]
 fn one_sided_springs_do_not_conserve_momentum() {
-    // PHYSICS.md §1: a one-sided spring pulls only its child, so the total
+    // docs/physics.md §1: a one-sided spring pulls only its child, so the total
     // momentum changes by the child's impulse: the control for the checks
     // above. Two free particles 1.1 m apart on a spring of rest length 1 m
     // and stiffness k: one step of symplectic Euler from rest changes the

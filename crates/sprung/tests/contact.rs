@@ -1,4 +1,4 @@
-//! Contact between bodies (PHYSICS.md §5): penalty forces within a
+//! Contact between bodies (docs/physics.md §5): penalty forces within a
 //! thickness, found by a grid once per step. Claims: bodies meeting
 //! head-on conserve momentum, never get inside one another deeper than the
 //! thickness, and separate; friction between bodies holds a block below

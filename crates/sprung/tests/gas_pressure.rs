@@ -1,4 +1,4 @@
-//! The gas inside a soft body (PHYSICS.md §4, §7): a pressurised ring
+//! The gas inside a soft body (docs/physics.md §4, §7): a pressurised ring
 //! settles at the radius where pressure balances the springs; pressure
 //! forces on a closed surface have no resultant and no torque, so springs
 //! and gas conserve momentum; the undamped pressurised ball conserves
@@ -39,7 +39,7 @@ struct Ring {
     nrt: Real,
 }
 
-/// The three parameter sets of the equilibrium claims (PHYSICS.md §7).
+/// The three parameter sets of the equilibrium claims (docs/physics.md §7).
 const RINGS: [Ring; 3] = [
     Ring {
         n: 17,
@@ -70,7 +70,7 @@ impl Ring {
     }
 
     /// Outward pressure force minus inward spring pull on a vertex of the
-    /// regular polygon of circumradius `r`, as PHYSICS.md §7 writes it (N).
+    /// regular polygon of circumradius `r`, as docs/physics.md §7 writes it (N).
     fn balance(&self, r: Real, nrt: Real) -> Real {
         let (n, v) = (self.n as Real, PI / self.n as Real);
         let side = 2.0 * r * v.sin();
@@ -182,7 +182,7 @@ fn bisection_matches_the_closed_form_radius() {
 
 #[test]
 fn pressure_force_on_a_regular_polygon_is_2_nrt_over_n_r_radially() {
-    // PHYSICS.md §7: (nRT/A) L cos(π/N) outward on every vertex, which is
+    // docs/physics.md §7: (nRT/A) L cos(π/N) outward on every vertex, which is
     // 2 nRT / (N R). One force evaluation, exact to round-off.
     let (n, r, nrt) = (11, 0.8, 3.0);
     let mut ring = build::ring(n, r).expect("valid ring");

@@ -1,4 +1,4 @@
-//! Enclosed volume and area (PHYSICS.md §4 "Volume"): the divergence-theorem
+//! Enclosed volume and area (docs/physics.md §4 "Volume"): the divergence-theorem
 //! sums are exact for polygons and polyhedra, the textbook's 2D formula is
 //! not, the builders' rings and icospheres converge to the circle and the
 //! sphere at the predicted rates, the cruder volume models give the box and

@@ -1,4 +1,4 @@
-//! The implicit integrators (PHYSICS.md §6): backward Euler by Newton's
+//! The implicit integrators (docs/physics.md §6): backward Euler by Newton's
 //! method and conjugate gradients (`implicit_euler`) and by the local/global
 //! iterations of the fast mass-spring solver (`projective`). Claims: both
 //! hold a stiff cloth at a frame-sized step where every explicit method

@@ -1,4 +1,4 @@
-//! The forces' Jacobian products (PHYSICS.md §6, the implicit solvers):
+//! The forces' Jacobian products (docs/physics.md §6, the implicit solvers):
 //! each force's `∂f/∂x·p` and `∂f/∂v·p` against central differences of its
 //! own force, where they are meant to be exact; the documented
 //! approximations where they are not (compressed springs made definite,

@@ -1,4 +1,4 @@
-//! The single oscillator (PHYSICS.md §7): one pinned and one free particle,
+//! The single oscillator (docs/physics.md §7): one pinned and one free particle,
 //! no gravity, `T = 2π √(m/k)`; with damping the amplitude decays as
 //! `exp(-c t / 2m)`. Claims: each integrator's period error is the one its
 //! amplification factor predicts, each converges at its stated order, and
@@ -173,7 +173,7 @@ fn damped_amplitude_decays_at_c_over_2m_with_rk4() {
 fn damped_amplitude_decays_at_c_over_2m_with_verlet() {
     // Verlet's damping needs a true velocity: the textbook loop computes it
     // after shifting the positions and always gets zero, which would leave
-    // this oscillator undamped (PHYSICS.md §6).
+    // this oscillator undamped (docs/physics.md §6).
     let damping = 1.0;
     let expected = damping / (2.0 * MASS);
     let h: Real = 0.01;

@@ -1,4 +1,4 @@
-//! Sphere colliders and moving (kinematic) colliders (PHYSICS.md §5).
+//! Sphere colliders and moving (kinematic) colliders (docs/physics.md §5).
 //!
 //! Projection form: a drop onto the top of a sphere bounces to `e² h`; a
 //! frictionless elastic sphere scatters a point by `χ = 2 arccos(b / r)`;

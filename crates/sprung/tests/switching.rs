@@ -1,6 +1,6 @@
 //! Switching the integrator of a running world (`World::set_integrator`):
 //! the state carries over with no jump in position or energy, and the
-//! oscillator keeps the phase of the exact solution (PHYSICS.md §6, §7).
+//! oscillator keeps the phase of the exact solution (docs/physics.md §6, §7).
 //!
 //! Notation: `ω = √(k/m)`, `h = ω dt`, `z = (u, v/ω)` the phase-space point.
 

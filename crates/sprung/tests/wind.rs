@@ -1,4 +1,4 @@
-//! Wind on surfaces (PHYSICS.md §3). The claims:
+//! Wind on surfaces (docs/physics.md §3). The claims:
 //!
 //! 1. a flat patch facing the wind feels exactly each model's force: the
 //!    simple model `c ((w - v)·n) n` on every particle, the area model

@@ -1,4 +1,4 @@
-//! The stiff cloth of the implicit solvers (PHYSICS.md §6): particles of
+//! The stiff cloth of the implicit solvers (docs/physics.md §6): particles of
 //! 2 g joined by springs of 2·10⁴ N/m, hanging from two corners of its top
 //! edge and swinging down from flat, stepped at the frame rate dt = 1/60 s
 //! by `implicit_euler` and `projective`, against symplectic Euler (the

@@ -1,6 +1,6 @@
 //! `diagnostics.csv`: one row per recorded step with the energies, per-body
-//! volume, pressure and centroid, and probed particle positions (DESIGN.md
-//! "The command line").
+//! volume, pressure and centroid, and probed particle positions (README.md,
+//! "Usage").
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Write};

@@ -1,6 +1,6 @@
 //! Topology of triangle meshes: edges, closedness, orientation, volume.
 //!
-//! A gas body (PHYSICS.md section 4) needs a closed surface: every edge
+//! A gas body (docs/physics.md section 4) needs a closed surface: every edge
 //! shared by exactly two triangles, which traverse it in opposite
 //! directions (a consistent orientation), with the normals pointing out.
 //! Its volume comes from the divergence theorem, which for flat triangles is

@@ -1,4 +1,4 @@
-//! `[wind]`: the wind that blows on every surface (PHYSICS.md §3).
+//! `[wind]`: the wind that blows on every surface (docs/physics.md §3).
 //!
 //! Keys: `velocity` (m/s), `model` = `"simple"` (default; `coefficient`,
 //! N·s/m, default 1) or `"area"` (`air_density`, kg/m³, default 1.2, and

@@ -3,31 +3,21 @@
 
 pub mod mutate;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-/// `shared/meshes`, the repository's sibling folder. A missing folder fails
-/// the test: these checks must not be skipped silently.
-pub fn meshes_dir() -> PathBuf {
-    let beside = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/meshes"
-    ));
-    if beside.is_dir() {
-        return beside.to_path_buf();
-    }
-    match std::env::var_os("SPRUNG_SHARED_DIR") {
-        Some(dir) => {
-            let meshes = PathBuf::from(dir).join("meshes");
-            assert!(
-                meshes.is_dir(),
-                "SPRUNG_SHARED_DIR/meshes ({}) is not a directory",
-                meshes.display()
-            );
-            meshes
-        }
-        None => panic!(
-            "shared meshes not found at {} and SPRUNG_SHARED_DIR is not set",
-            beside.display()
-        ),
-    }
+/// The test mesh `name`: from `tests/meshes` (the readers' test files),
+/// else from the repository's `scenes/meshes` (the demos' `cube.asc` and
+/// `horse.obj`). A missing file fails the test: these checks must not be
+/// skipped silently.
+pub fn mesh_path(name: &str) -> PathBuf {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let candidates = [
+        root.join("tests/meshes").join(name),
+        root.join("../../scenes/meshes").join(name),
+    ];
+    candidates
+        .iter()
+        .find(|p| p.is_file())
+        .cloned()
+        .unwrap_or_else(|| candidates[0].clone())
 }

@@ -25,7 +25,7 @@ pub enum PlotError {
         /// The folder.
         dir: PathBuf,
     },
-    /// A diagnostics file that does not follow the contract (DESIGN.md).
+    /// A diagnostics file that does not follow the contract (README.md, "Usage").
     #[error("{}, line {line}: {message}", path.display())]
     Malformed {
         /// The file.

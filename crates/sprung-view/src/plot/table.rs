@@ -1,4 +1,4 @@
-//! Reading `diagnostics.csv` (DESIGN.md, "The command line"): a header,
+//! Reading `diagnostics.csv` (README.md, "Usage"): a header,
 //! then one row of numbers per recorded step. Empty cells are missing
 //! values (volume and pressure of bodies without gas); anything else that
 //! does not fit is refused with the file, the line and the column.

@@ -1,5 +1,5 @@
 //! A cloth: an `nx × ny` grid of particles in the xy-plane with structural,
-//! shear and bending springs (PHYSICS.md §2), and its triangles.
+//! shear and bending springs (docs/physics.md §2), and its triangles.
 
 use super::{check_count, check_length, check_total};
 use crate::body::{BodyData, SpringData};

@@ -1,6 +1,6 @@
 //! Internal structure for a closed surface body: a lattice of particles
 //! filling the inside, with springs to its 26 neighbours, tied to the
-//! surface (PHYSICS.md §2: "a lattice filling the inside tied to the
+//! surface (docs/physics.md §2: "a lattice filling the inside tied to the
 //! surface"). It holds a mesh's shape without gas, like jelly.
 
 use crate::error::BuildError;

@@ -1,5 +1,5 @@
 //! A lattice ("jelly"): a 3D grid of particles with springs to all 26
-//! neighbours (PHYSICS.md §2). A 6-neighbour lattice has no resistance to
+//! neighbours (docs/physics.md §2). A 6-neighbour lattice has no resistance to
 //! shear; the face and body diagonals make it hold its shape.
 
 use super::{check_count, check_length, check_total};

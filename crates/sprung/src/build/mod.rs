@@ -1,5 +1,5 @@
 //! Builders: functions that lay out the particles, springs and faces of a
-//! common body (PHYSICS.md §2) as a [`BodyData`](crate::BodyData), ready for
+//! common body (docs/physics.md §2) as a [`BodyData`](crate::BodyData), ready for
 //! [`crate::World::add_body`]. Every particle has mass 1 kg and every spring
 //! zero stiffness and damping until the caller sets them with the
 //! `BodyData::with_*` methods.

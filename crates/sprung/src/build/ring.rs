@@ -1,4 +1,4 @@
-//! A ring: the 2D soft ball of the textbook (PHYSICS.md §2), `N` particles
+//! A ring: the 2D soft ball of the textbook (docs/physics.md §2), `N` particles
 //! on a circle joined into a closed loop.
 
 use super::{check_count, check_length, check_total};

@@ -1,6 +1,6 @@
 //! A body from a triangulated surface (a sphere, a mesh from a modelling
 //! tool): a spring on every edge, plus the longer springs a soft body
-//! needs, which a mesh file lacks (PHYSICS.md §2).
+//! needs, which a mesh file lacks (docs/physics.md §2).
 
 use std::collections::HashMap;
 

@@ -1,12 +1,12 @@
 //! Colliders: shapes the particles must stay out of, at rest or moving
-//! along a prescribed path (PHYSICS.md §5).
+//! along a prescribed path (docs/physics.md §5).
 //!
 //! A [`Collider`] is a [`Shape`] (which side is outside, and how deep a
 //! point is), a [`ContactResponse`] and an optional kinematic [`Path`]. The
 //! responses are the *projection* form, a stage after integration that moves
 //! a penetrating particle back to the surface and reflects its velocity, and
 //! the *penalty* form, a virtual spring that acts as a force while the
-//! particle is inside (PHYSICS.md §5; Witkin & Baraff, *Physically Based
+//! particle is inside (docs/physics.md §5; Witkin & Baraff, *Physically Based
 //! Modeling*, SIGGRAPH course notes, on particle collisions and contact).
 //! Both only ask the shape for a signed distance and an outward normal, and
 //! the collider for its surface velocity, so each works with every shape.

@@ -1,4 +1,4 @@
-//! The two contact responses (PHYSICS.md §5), written against any
+//! The two contact responses (docs/physics.md §5), written against any
 //! [`Shape`](super::Shape)'s signed distance and normal and the collider's
 //! surface velocity, so they serve every shape, static or moving.
 

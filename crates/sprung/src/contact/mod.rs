@@ -1,4 +1,4 @@
-//! Contact between bodies (PHYSICS.md §5): every body against every other,
+//! Contact between bodies (docs/physics.md §5): every body against every other,
 //! and a surface against itself where asked.
 //!
 //! **Method: penalty forces with a thickness.** A particle closer than the

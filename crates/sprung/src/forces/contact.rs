@@ -1,4 +1,4 @@
-//! Penalty contacts with the colliders (PHYSICS.md §5): the force of every
+//! Penalty contacts with the colliders (docs/physics.md §5): the force of every
 //! collider with a [`ContactResponse::Penalty`] response, as one entry of
 //! the force list (projection colliders act in the step's collide stage
 //! instead).

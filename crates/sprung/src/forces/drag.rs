@@ -1,4 +1,4 @@
-//! Global air drag: `f_i -= c_air v_i` (PHYSICS.md §1).
+//! Global air drag: `f_i -= c_air v_i` (docs/physics.md §1).
 
 use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::measure::Energies;

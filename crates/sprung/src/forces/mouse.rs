@@ -1,4 +1,4 @@
-//! The user's hand (PHYSICS.md §1, user forces): a damped spring between a
+//! The user's hand (docs/physics.md §1, user forces): a damped spring between a
 //! grabbed particle and the cursor, so a person can drag and throw a body.
 
 use super::{Force, ForceContext, JacobianScale, Linearization};

@@ -1,4 +1,4 @@
-//! Gas pressure on closed bodies (PHYSICS.md §4): `P = nRT / V`, and each
+//! Gas pressure on closed bodies (docs/physics.md §4): `P = nRT / V`, and each
 //! surface element of area `A` with outward normal `n` feels `F = P A n`,
 //! shared equally among its vertices (⅓ each for a triangle, ½ each for a
 //! 2D segment). Outside pressure is zero. The gas energy is

@@ -1,4 +1,4 @@
-//! Wind on surfaces (PHYSICS.md §3): a surface with unit normal `n` moving
+//! Wind on surfaces (docs/physics.md §3): a surface with unit normal `n` moving
 //! with velocity `v` in a wind `w` feels a force along `n`, largest when the
 //! wind blows straight onto it and zero when it blows along it. Two models:
 //!
@@ -8,7 +8,7 @@
 //! - **area** (per face, scaled by its size): `f = ρ_air A ((w - v) · n) n`
 //!   with `A` the face's area, `v` the mean velocity of its vertices and `w`
 //!   the wind at its centroid, shared equally among its three vertices. This
-//!   is PHYSICS.md's form, linear in the relative wind: `ρ_air` (kg/m³)
+//!   is docs/physics.md's form, linear in the relative wind: `ρ_air` (kg/m³)
 //!   multiplies an implied reference speed of 1 m/s. An optional `lift`
 //!   adds `lift` times the part of that force perpendicular to the relative
 //!   wind.

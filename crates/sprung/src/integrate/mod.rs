@@ -1,4 +1,4 @@
-//! Time integrators (PHYSICS.md §6).
+//! Time integrators (docs/physics.md §6).
 //!
 //! An integrator advances positions and velocities by one time step, asking a
 //! [`Derivative`] for forces and accelerations at whatever trial states it

@@ -10,7 +10,7 @@
 //! Taylor step instead would break the momentum balance between particles
 //! changed and not changed.
 //!
-//! Velocity (PHYSICS.md §6): the central difference
+//! Velocity (docs/physics.md §6): the central difference
 //! `v_n = (x⁺ - x⁻) / (2 dt)` is computed *before* the positions are
 //! shifted. The textbook listing shifts first and always gets zero, which
 //! silently removes damping and wind. Since the step ends at time `n + 1`,

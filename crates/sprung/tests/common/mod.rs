@@ -1,5 +1,5 @@
 //! Helpers shared by the physics-claim tests: small worlds with known exact
-//! solutions (PHYSICS.md §7), a deterministic random source, and the signal
+//! solutions (docs/physics.md §7), a deterministic random source, and the signal
 //! measurements (zero crossings, peaks) the tests read frequencies and decay
 //! rates from.
 //!
@@ -13,7 +13,7 @@ use sprung::{build, BodyData, IntegratorKind, Real, SpringData, Vec3, World};
 /// force to be the linear `-k u`.
 pub const REST: Real = 1.0;
 
-/// The single oscillator of PHYSICS.md §7: particle 0 pinned at the origin,
+/// The single oscillator of docs/physics.md §7: particle 0 pinned at the origin,
 /// particle 1 of mass `mass` (kg) at `(REST + u0, 0, 0)` with velocity
 /// `(v0, 0, 0)`, joined by a spring of stiffness `stiffness` (N/m), damping
 /// `damping` (N·s/m) and rest length [`REST`]. No gravity: the displacement

@@ -1,5 +1,5 @@
 //! Damped springs: Hooke's law plus a dashpot along the spring axis
-//! (PHYSICS.md §1).
+//! (docs/physics.md §1).
 //!
 //! ```text
 //! d = |x_i - x_j|,  t = (x_i - x_j)/d        (skipped when d == 0)

@@ -1,4 +1,4 @@
-//! Implicit (backward) Euler by Newton's method (PHYSICS.md §6; Baraff and
+//! Implicit (backward) Euler by Newton's method (docs/physics.md §6; Baraff and
 //! Witkin, "Large steps in cloth simulation", SIGGRAPH 1998).
 //!
 //! Backward Euler asks for the velocity `v` at the end of the step with

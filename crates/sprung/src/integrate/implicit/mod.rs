@@ -1,4 +1,4 @@
-//! The implicit integrators (PHYSICS.md §6): backward Euler, stable at time
+//! The implicit integrators (docs/physics.md §6): backward Euler, stable at time
 //! steps far beyond the explicit limit `2/ω_max`, solved two ways.
 //!
 //! - [`ImplicitEuler`]: Newton's method on the backward-Euler equations,
