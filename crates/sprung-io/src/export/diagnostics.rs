@@ -102,23 +102,23 @@ impl Diagnostics {
     /// step was split (`rk45`, `substeps`).
     pub fn record(&mut self, world: &World) -> io::Result<()> {
         let e = world.energies();
-        let optional = |value: Option<f64>| value.map(|v| v.to_string()).unwrap_or_default();
+        let optional = |value: Option<f64>| value.map(|v| Real(v).to_string()).unwrap_or_default();
         let report = world.last_step_report();
         let mut row = format!(
             "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             world.steps(),
-            world.time(),
-            e.kinetic,
-            e.spring,
-            e.gravity,
-            e.gas,
-            e.total(),
-            e.contact,
-            e.gravitation,
+            Real(world.time()),
+            Real(e.kinetic),
+            Real(e.spring),
+            Real(e.gravity),
+            Real(e.gas),
+            Real(e.total()),
+            Real(e.contact),
+            Real(e.gravitation),
             world.active_contacts(),
-            optional(report.iterations.map(f64::from)),
+            report.iterations.map(|i| i.to_string()).unwrap_or_default(),
             optional(report.residual),
-            optional(report.substeps.map(f64::from)),
+            report.substeps.map(|n| n.to_string()).unwrap_or_default(),
             optional(report.step_size),
         );
         for index in 0..world.bodies.len() {
@@ -127,11 +127,16 @@ impl Diagnostics {
                 optional(world.volume(index)),
                 optional(world.pressure(index)),
             );
-            row.push_str(&format!(",{volume},{pressure},{},{},{}", c.x, c.y, c.z));
+            row.push_str(&format!(
+                ",{volume},{pressure},{},{},{}",
+                Real(c.x),
+                Real(c.y),
+                Real(c.z)
+            ));
         }
         for &p in &self.probes {
             let x = world.particles.position[p];
-            row.push_str(&format!(",{},{},{}", x.x, x.y, x.z));
+            row.push_str(&format!(",{},{},{}", Real(x.x), Real(x.y), Real(x.z)));
         }
         writeln!(self.file, "{row}")?;
         self.rows += 1;
@@ -155,6 +160,24 @@ impl Diagnostics {
     }
 }
 
+/// A number as `diagnostics.csv` writes it: the shortest digits that read
+/// back to the same `f64`, in plain notation from 1e-5 to below 1e16 (and
+/// 0), in scientific notation (`2.1782575743145572e-15`) outside, where
+/// plain notation would run to dozens of zeros.
+#[derive(Debug, Clone, Copy)]
+pub struct Real(pub f64);
+
+impl std::fmt::Display for Real {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let magnitude = self.0.abs();
+        if magnitude == 0.0 || (1e-5..1e16).contains(&magnitude) || !magnitude.is_finite() {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
 /// The header row: the fixed columns, five per body, three per probe.
 fn header(world: &World, probes: &[usize]) -> String {
     let mut header = String::from(
@@ -169,4 +192,40 @@ fn header(world: &World, probes: &[usize]) -> String {
         header.push_str(&format!(",p{p}.x,p{p}.y,p{p}.z"));
     }
     header
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Real;
+
+    #[test]
+    fn numbers_are_short_and_read_back_exactly() {
+        assert_eq!(
+            Real(-2.1782575743145572e-15).to_string(),
+            "-2.1782575743145572e-15"
+        );
+        assert_eq!(Real(0.5).to_string(), "0.5");
+        assert_eq!(Real(0.1 + 0.2).to_string(), "0.30000000000000004");
+        assert_eq!(Real(20.0).to_string(), "20");
+        assert_eq!(Real(1e-5).to_string(), "0.00001");
+        assert_eq!(Real(9.99e-6).to_string(), "9.99e-6");
+        assert_eq!(Real(1e20).to_string(), "1e20");
+        assert_eq!(Real(0.0).to_string(), "0");
+        assert_eq!(Real(-0.0).to_string(), "-0");
+        // Every bit pattern of finite numbers (a scattering of them) reads
+        // back to the same bits.
+        let mut bits = 0x9E37_79B9_7F4A_7C15_u64;
+        for _ in 0..100_000 {
+            bits ^= bits << 13;
+            bits ^= bits >> 7;
+            bits ^= bits << 17;
+            let x = f64::from_bits(bits);
+            if x.is_finite() {
+                let text = Real(x).to_string();
+                let back: f64 = text.parse().expect("a number");
+                assert_eq!(back.to_bits(), x.to_bits(), "{x:e} written as {text}");
+                assert!(text.len() <= 24, "{text}");
+            }
+        }
+    }
 }

@@ -16,7 +16,7 @@ mod vtk;
 mod vtk_read;
 
 pub use atomic::AtomicFile;
-pub use diagnostics::Diagnostics;
+pub use diagnostics::{Diagnostics, Real};
 pub use vtk_read::{read_vtk_frame, DataArray, VtkFrame, VtkReadError};
 
 use std::io;
