@@ -43,7 +43,7 @@ pub fn run(name: Option<&str>, options: &RunOptions) -> Result<(), CliError> {
         .clone()
         .unwrap_or_else(|| Path::new("out").join("demo").join(demo.name));
     let mut options = options.clone();
-    options.format = options.format.or(Some(FrameFormat::Vtk));
+    options.format = options.format.or(Some(FrameFormat::Vtu));
     let kinds: Vec<Option<IntegratorKind>> = if demo.every_integrator {
         IntegratorKind::ALL.into_iter().map(Some).collect()
     } else {

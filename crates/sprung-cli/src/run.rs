@@ -157,6 +157,17 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
             }
             Ok(())
         };
+    // The frames' time-series file, rewritten at each checkpoint and at
+    // the end (however the run ends).
+    let series = |world: &sprung::World, diagnostics: &Diagnostics| -> Result<(), CliError> {
+        match options.format {
+            Some(format) => export::write_series(&frames_dir, format, world, diagnostics.times())
+                .map_err(|e| {
+                    CliError::Io(format!("cannot write to {}: {e}", frames_dir.display()))
+                }),
+            None => Ok(()),
+        }
+    };
     let save = |world: &sprung::World, rows: usize| -> Result<(), CliError> {
         match &options.save_state {
             Some(path) => checkpoint::save(path, world, rows, scene.dt),
@@ -175,6 +186,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         if let Some(signal) = interrupt::received() {
             progress.abandon();
             let rows = diagnostics.rows();
+            series(&scene.world, &diagnostics)?;
             diagnostics.finish().map_err(io)?;
             save(&scene.world, rows)?;
             let message = format!(
@@ -211,6 +223,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
             Ok(_) => {}
             Err(error) => {
                 progress.abandon();
+                series(&scene.world, &diagnostics)?;
                 diagnostics.finish().map_err(io)?;
                 let mut kept = format!(
                     "diagnostics up to the last good step are in {}",
@@ -227,6 +240,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         }
         if options.checkpoint_every.is_some_and(|k| step % k == 0) && step != steps {
             diagnostics.flush().map_err(io)?;
+            series(&scene.world, &diagnostics)?;
             save(&scene.world, diagnostics.rows())?;
             checkpoints += 1;
         }
@@ -236,6 +250,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
     }
     progress.finish_and_clear();
     let rows = diagnostics.rows();
+    series(&scene.world, &diagnostics)?;
     diagnostics.finish().map_err(io)?;
     // The last row, recorded because the run ended there, is not one of
     // the every-K rows a longer run has: a run resumed from here drops it.

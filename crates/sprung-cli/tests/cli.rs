@@ -119,10 +119,10 @@ fn steps_time_every_and_integrator_options() {
 }
 
 #[test]
-fn frames_in_vtk_and_obj() {
+fn frames_in_vtu_vtk_and_obj() {
     let dir = tempfile::tempdir().expect("tempdir");
     write(dir.path(), "p.toml", PENDULUM);
-    for format in ["vtk", "obj"] {
+    for format in ["vtu", "vtk", "obj"] {
         let output = sprung(
             &[
                 "run", "p.toml", "--out", format, "--format", format, "--quiet",
@@ -134,6 +134,7 @@ fn frames_in_vtk_and_obj() {
         let mut names: Vec<String> = std::fs::read_dir(&frames)
             .expect("frames dir")
             .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with("frame_"))
             .collect();
         names.sort();
         assert_eq!(names.len(), 11);
@@ -141,9 +142,21 @@ fn frames_in_vtk_and_obj() {
         assert_eq!(names[10], format!("frame_000010.{format}"));
         let last = std::fs::read_to_string(frames.join(&names[10])).expect("frame");
         match format {
+            "vtu" => {
+                assert!(last.starts_with("<?xml"));
+                assert!(last.contains("NumberOfPoints=\"2\" NumberOfCells=\"1\""));
+                assert!(last.contains("compressor=\"vtkZLibDataCompressor\""));
+                let series = std::fs::read_to_string(frames.join("frames.pvd")).expect("series");
+                assert_eq!(series.matches("<DataSet ").count(), 11);
+                assert!(series.contains("<!-- body 0: bob -->"), "{series}");
+            }
             "vtk" => {
-                assert!(last.starts_with("# vtk DataFile Version 3.0"));
-                assert!(last.contains("POINTS 2 double") && last.contains("LINES 1 3\n2 0 1"));
+                assert!(last.starts_with("# vtk DataFile Version 4.2"));
+                assert!(last.contains("DATASET UNSTRUCTURED_GRID"));
+                assert!(last.contains("POINTS 2 double") && last.contains("CELLS 1 3\n2 0 1"));
+                let series =
+                    std::fs::read_to_string(frames.join("frames.vtk.series")).expect("series");
+                assert_eq!(series.matches("\"name\"").count(), 11);
             }
             _ => assert_eq!(last.lines().filter(|l| l.starts_with("v ")).count(), 2),
         }
@@ -305,7 +318,7 @@ fn default_demo_runs_and_says_where_its_results_went() {
     assert!(dir.path().join("out/demo/ball2d/diagnostics.csv").exists());
     assert!(dir
         .path()
-        .join("out/demo/ball2d/frames/frame_000000.vtk")
+        .join("out/demo/ball2d/frames/frame_000000.vtu")
         .exists());
     // stderr is not a terminal here: no progress bar is drawn.
     assert!(output.stderr.is_empty(), "{}", text(&output.stderr));

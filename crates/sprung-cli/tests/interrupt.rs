@@ -61,9 +61,16 @@ fn check(signal: &str, code: i32) {
     let mut frames: Vec<_> = std::fs::read_dir(out.join("frames"))
         .unwrap()
         .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("frame_"))
+        })
         .collect();
     frames.sort();
     assert_eq!(frames.len(), rows, "one frame per row");
+    // The series file lists them all, written as the run stopped.
+    let series = std::fs::read_to_string(out.join("frames/frames.vtk.series")).expect("series");
+    assert_eq!(series.matches("\"name\"").count(), rows, "{series}");
     assert!(rows >= 5);
     for frame in &frames {
         let text = std::fs::read_to_string(frame).unwrap();

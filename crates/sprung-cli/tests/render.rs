@@ -142,6 +142,40 @@ fn a_run_folder_is_drawn_from_its_vtk_frames() {
     );
 }
 
+/// `.vtu` and legacy `.vtk` frames of the same run carry the same model
+/// and the same positions (bit for bit): their pictures are the same bytes.
+#[test]
+fn vtu_and_vtk_run_folders_draw_the_same_pictures() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "s.toml", SCENE);
+    for format in ["vtu", "vtk"] {
+        let run = sprung(
+            &[
+                "run", "s.toml", "--out", format, "--format", format, "--every", "20", "--quiet",
+            ],
+            dir.path(),
+        );
+        assert!(run.status.success(), "{}", text(&run.stderr));
+        let output = sprung(
+            &[
+                "render", format, "--width", "100", "--height", "64", "--quiet",
+            ],
+            dir.path(),
+        );
+        assert!(output.status.success(), "{}", text(&output.stderr));
+    }
+    let vtu = pictures(&dir.path().join("vtu/render"));
+    let vtk = pictures(&dir.path().join("vtk/render"));
+    assert_eq!(vtu.len(), 6);
+    for (a, b) in vtu.iter().zip(&vtk) {
+        assert!(
+            std::fs::read(a).unwrap() == std::fs::read(b).unwrap(),
+            "{}",
+            a.display()
+        );
+    }
+}
+
 #[test]
 fn rendering_twice_gives_the_same_bytes() {
     let dir = tempfile::tempdir().expect("tempdir");

@@ -1,7 +1,7 @@
-//! VTK frames: what `write_frame` puts in them (rest lengths, strain and
-//! 2D outlines as cell data) and `read_vtk_frame` reading them back
-//! exactly; malformed files are errors naming the file and line, never
-//! panics.
+//! VTK frames, `.vtu` and legacy `.vtk`: what `write_frame` puts in them
+//! (each cell's kind, body, rest length and strain, each point's body) and
+//! `read_vtk_frame` reading them back exactly; other tools' files read;
+//! malformed files are errors naming the file and line, never panics.
 
 use std::path::Path;
 
@@ -27,77 +27,167 @@ fn world() -> World {
     world
 }
 
-fn frame_text(world: &World) -> String {
+fn frame_in(world: &World, format: FrameFormat) -> String {
     let dir = tempfile::tempdir().expect("tempdir");
-    let path = write_frame(dir.path(), 7, world, FrameFormat::Vtk).expect("frame");
+    let path = write_frame(dir.path(), 7, world, format).expect("frame");
     std::fs::read_to_string(path).expect("read")
+}
+
+fn frame_text(world: &World) -> String {
+    frame_in(world, FrameFormat::Vtk)
 }
 
 fn read(text: &str) -> VtkFrame {
     read_vtk_frame(text, Path::new("f.vtk")).expect("reads")
 }
 
-#[test]
-fn frames_carry_rest_length_strain_and_outline_per_cell() {
-    let world = world();
-    let text = frame_text(&world);
-    let springs = world.springs.len();
-    let faces: usize = world.bodies.iter().map(|b| b.faces.len()).sum();
-    assert!(text.contains(&format!("POINTS {} double", world.particles.len())));
-    assert!(text.contains(&format!("LINES {springs} {}", 3 * springs)));
-    assert!(text.contains(&format!("CELL_DATA {}", springs + faces)));
-    let frame = read(&text);
-    assert_eq!(
-        frame.line_scalars("rest_length"),
-        Some(&world.springs.rest_length[..])
-    );
-    let all = &frame.cell_data["rest_length"].values;
-    assert!(all[springs..].iter().all(|&v| v == 0.0), "0 for polygons");
-    let strain = frame.line_scalars("strain").expect("strain");
-    for s in 0..springs {
-        let p = &world.particles.position;
-        let d =
-            p[world.springs.first()[s] as usize].distance(p[world.springs.second()[s] as usize]);
-        let expected = (d - world.springs.rest_length[s]) / world.springs.rest_length[s];
-        assert_eq!(strain[s], expected);
+/// The world's cells in the order of the frames: springs, rods, segments
+/// (lines), then triangles.
+fn expected_lines(world: &World) -> Vec<Vec<u32>> {
+    let mut lines: Vec<Vec<u32>> = (0..world.springs.len())
+        .map(|s| world.springs.endpoints(s).to_vec())
+        .collect();
+    for body in &world.bodies {
+        lines.extend(body.segments.iter().map(|s| s.to_vec()));
     }
-    // The ring's 5 springs are its outline; no other spring is.
-    let outline = frame.line_scalars("outline").expect("outline");
-    let ring = world.body("ring").expect("ring").springs.clone();
-    for (s, &flag) in outline.iter().enumerate() {
-        assert_eq!(flag == 1.0, ring.contains(&s), "spring {s}");
+    lines
+}
+
+#[test]
+fn frames_carry_kind_body_rest_length_and_strain_per_cell() {
+    let world = world();
+    let springs = world.springs.len();
+    let segments: usize = world.bodies.iter().map(|b| b.segments.len()).sum();
+    let faces: usize = world.bodies.iter().map(|b| b.faces.len()).sum();
+    assert_eq!(segments, 5, "the ring's outline");
+    for format in [FrameFormat::Vtu, FrameFormat::Vtk] {
+        let frame = read(&frame_in(&world, format));
+        assert_eq!(frame.lines.len(), springs + segments, "{format:?}");
+        assert_eq!(frame.polygons.len(), faces);
+        let kind = &frame.cell_data["kind"].values;
+        let expected_kind: Vec<f64> = std::iter::repeat_n(0.0, springs)
+            .chain(std::iter::repeat_n(2.0, segments))
+            .chain(std::iter::repeat_n(3.0, faces))
+            .collect();
+        assert_eq!(kind, &expected_kind);
+        let rest = &frame.cell_data["rest_length"].values;
+        assert_eq!(&rest[..springs], &world.springs.rest_length[..]);
+        assert!(
+            rest[springs..].iter().all(|&v| v == 0.0),
+            "0 off the springs"
+        );
+        let strain = &frame.cell_data["strain"].values;
+        let p = &world.particles.position;
+        let spring_strain = |s: usize| {
+            let [a, b] = world.springs.endpoints(s);
+            let d = p[a as usize].distance(p[b as usize]);
+            (d - world.springs.rest_length[s]) / world.springs.rest_length[s]
+        };
+        for (s, &value) in strain[..springs].iter().enumerate() {
+            assert_eq!(value, spring_strain(s), "spring {s}");
+        }
+        // A triangle's strain is the mean of its edges' springs' (each
+        // edge of the cloth's triangles has a structural or shear spring).
+        let cloth = world.body("cloth").expect("cloth");
+        let face = cloth.faces[0];
+        let edge = |a: u32, b: u32| {
+            (0..springs)
+                .find(|&s| {
+                    let [x, y] = world.springs.endpoints(s);
+                    (x, y) == (a, b) || (x, y) == (b, a)
+                })
+                .map(spring_strain)
+                .expect("a spring on every edge")
+        };
+        let mean = (edge(face[0], face[1]) + edge(face[1], face[2]) + edge(face[2], face[0])) / 3.0;
+        let first_face = springs + segments + world.body("ring").expect("ring").faces.len();
+        assert!(
+            (strain[first_face] - mean).abs() <= 1e-15,
+            "{} vs {mean}",
+            strain[first_face]
+        );
+        assert!(mean != 0.0, "the cloth is stretched under gravity");
+        // Each point's and cell's body.
+        let body = &frame.point_data["body"].values;
+        for (index, b) in world.bodies.iter().enumerate() {
+            assert!(body[b.particles.clone()].iter().all(|&v| v == index as f64));
+        }
+        assert_eq!(frame.field_data["TIME"].values, vec![world.time()]);
     }
 }
 
 #[test]
 fn a_frame_reads_back_exactly() {
     let world = world();
-    let frame = read(&frame_text(&world));
-    assert_eq!(
-        frame.points, world.particles.position,
-        "shortest round-trip numbers"
+    for format in [FrameFormat::Vtu, FrameFormat::Vtk] {
+        let frame = read(&frame_in(&world, format));
+        assert_eq!(
+            frame.points, world.particles.position,
+            "{format:?}: shortest round-trip numbers, or the bits"
+        );
+        assert_eq!(frame.step, Some(world.steps()));
+        assert_eq!(frame.time, Some(world.time()));
+        assert_eq!(frame.lines, expected_lines(&world));
+        let faces: Vec<Vec<u32>> = world
+            .bodies
+            .iter()
+            .flat_map(|b| b.faces.iter().map(|f| f.to_vec()))
+            .collect();
+        assert_eq!(frame.polygons, faces);
+        let pinned: Vec<f64> = (0..world.particles.len())
+            .map(|i| f64::from(u8::from(world.particles.is_pinned(i))))
+            .collect();
+        assert_eq!(frame.point_scalars("pinned"), Some(&pinned[..]));
+        let velocity: Vec<f64> = world
+            .particles
+            .velocity
+            .iter()
+            .flat_map(|v| v.to_array())
+            .collect();
+        assert_eq!(frame.point_data["velocity"].components, 3);
+        assert_eq!(frame.point_data["velocity"].values, velocity);
+    }
+}
+
+/// A `.vtu` frame is a third the size of the legacy one or less (the
+/// issue's figure for compressed binary against ASCII), on a cloth.
+#[test]
+fn vtu_frames_are_compact() {
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    let cloth = build::cloth(30, 20, 3.0, 2.0, build::ClothSprings::default())
+        .expect("cloth")
+        .with_stiffness(100.0);
+    world.add_body("flag", cloth).expect("cloth");
+    for _ in 0..50 {
+        world.step(1e-3).expect("stable");
+    }
+    let (vtu, vtk) = (
+        frame_in(&world, FrameFormat::Vtu),
+        frame_in(&world, FrameFormat::Vtk),
     );
-    assert_eq!(frame.step, Some(world.steps()));
-    assert_eq!(frame.time, Some(world.time()));
-    let lines: Vec<Vec<u32>> = (0..world.springs.len())
-        .map(|s| vec![world.springs.first()[s], world.springs.second()[s]])
-        .collect();
-    assert_eq!(frame.lines, lines);
-    let faces: Vec<Vec<u32>> = world
-        .bodies
-        .iter()
-        .flat_map(|b| b.faces.iter().map(|f| f.to_vec()))
-        .collect();
-    assert_eq!(frame.polygons, faces);
-    let pinned: Vec<f64> = (0..world.particles.len())
-        .map(|i| f64::from(u8::from(world.particles.is_pinned(i))))
-        .collect();
-    assert_eq!(frame.point_scalars("pinned"), Some(&pinned[..]));
-    assert_eq!(frame.point_data["velocity"].components, 3);
-    assert_eq!(
-        frame.point_data["velocity"].values.len(),
-        3 * world.particles.len()
+    assert!(
+        3 * vtu.len() <= vtk.len(),
+        "{} against {} bytes",
+        vtu.len(),
+        vtk.len()
     );
+}
+
+#[test]
+fn other_tools_unstructured_grids_sort_their_cells() {
+    // A triangle, a line and a quad, in that order, with their data.
+    let text = "# vtk DataFile Version 4.2\nanother tool\nASCII\nDATASET UNSTRUCTURED_GRID\n\
+        POINTS 4 float\n0 0 0 1 0 0 1 1 0 0 1 0\n\
+        CELLS 3 12\n3 0 1 2\n2 0 2\n4 0 1 2 3\n\
+        CELL_TYPES 3\n5\n3\n9\n\
+        CELL_DATA 3\nSCALARS id int 1\nLOOKUP_TABLE default\n10 20 30\n";
+    let frame = read(text);
+    assert_eq!(frame.lines, vec![vec![0, 2]]);
+    assert_eq!(frame.polygons, vec![vec![0, 1, 2], vec![0, 1, 2, 3]]);
+    assert_eq!(frame.cell_data["id"].values, vec![20.0, 10.0, 30.0]);
+    let tetra = text.replace("CELL_TYPES 3\n5\n3\n9", "CELL_TYPES 3\n5\n3\n10");
+    let error = read_vtk_frame(&tetra, Path::new("t.vtk")).expect_err("a tetrahedron");
+    assert!(error.to_string().contains("cell type 10"), "{error}");
 }
 
 #[test]
@@ -148,9 +238,15 @@ fn malformed_frames_are_errors_naming_file_and_line() {
         "not a legacy VTK file",
     );
     broken(&text, "ASCII", "BINARY", "only ASCII");
-    broken(&text, "POLYDATA", "UNSTRUCTURED_GRID", "only POLYDATA");
+    broken(
+        &text,
+        "UNSTRUCTURED_GRID",
+        "STRUCTURED_POINTS",
+        "only POLYDATA and UNSTRUCTURED_GRID",
+    );
     broken(&text, "POINTS 17", "POINTS x7", "not a count");
-    broken(&text, "\nLINES", "\nLINEZ", "unknown section \"LINEZ\"");
+    broken(&text, "\nCELLS", "\nCELLZ", "unknown section \"CELLZ\"");
+    broken(&text, "CELL_TYPES", "CELL_TYPEZ", "unknown section");
     broken(
         &text,
         "\n2 0 1\n",
@@ -178,7 +274,11 @@ fn malformed_frames_are_errors_naming_file_and_line() {
     );
     // A non-finite point.
     let lines: Vec<&str> = text.lines().collect();
-    let first_point = lines[5];
+    let first_point = lines[lines
+        .iter()
+        .position(|l| l.starts_with("POINTS"))
+        .expect("points")
+        + 1];
     broken(&text, first_point, "nan 0 0", "not finite");
 }
 
@@ -210,6 +310,50 @@ fn truncated_or_scrambled_frames_never_panic() {
             scrambled[k] = junk;
             let joined = format!("{header}{}", scrambled.join("\n"));
             let _ = read_vtk_frame(&joined, Path::new("junk.vtk"));
+        }
+    }
+}
+
+/// A `.vtu` frame damaged in its structure or its data is an error naming
+/// the file and line; cut anywhere, it never panics.
+#[test]
+fn damaged_vtu_frames_are_errors() {
+    let text = frame_in(&world(), FrameFormat::Vtu);
+    let fail = |bad: &str, needle: &str| {
+        let error = read_vtk_frame(bad, Path::new("f.vtu")).expect_err(needle);
+        assert!(error.to_string().contains(needle), "{needle}: {error}");
+    };
+    fail(
+        &text.replace("UnstructuredGrid\"", "PolyData\""),
+        "only UnstructuredGrid",
+    );
+    fail(
+        &text.replace("vtkZLibDataCompressor", "vtkLZ4DataCompressor"),
+        "zlib only",
+    );
+    fail(
+        &text.replace("NumberOfPoints=\"17\"", "NumberOfPoints=\"18\""),
+        "tuples",
+    );
+    fail(
+        &text.replace("format=\"binary\">\n", "format=\"binary\">\n!!"),
+        "base64",
+    );
+    fail(
+        &text.replace("Name=\"offsets\"", "Name=\"offsetz\""),
+        "connectivity, offsets and types",
+    );
+    for end in (0..text.len()).step_by(97) {
+        let _ = read_vtk_frame(&text[..end], Path::new("cut.vtu"));
+    }
+    // Flipped characters in the base64 text: an error or different
+    // numbers, never a panic.
+    let bytes = text.as_bytes();
+    for at in (0..bytes.len()).step_by(31) {
+        let mut damaged = bytes.to_vec();
+        damaged[at] = if damaged[at] == b'A' { b'B' } else { b'A' };
+        if let Ok(damaged) = String::from_utf8(damaged) {
+            let _ = read_vtk_frame(&damaged, Path::new("flip.vtu"));
         }
     }
 }

@@ -17,6 +17,8 @@ pub struct Diagnostics {
     file: AtomicFile,
     probes: Vec<usize>,
     rows: usize,
+    /// The `time` of every row (s), for the frames' series file.
+    times: Vec<f64>,
 }
 
 impl Diagnostics {
@@ -29,6 +31,7 @@ impl Diagnostics {
             file,
             probes: probes.to_vec(),
             rows: 0,
+            times: Vec::new(),
         })
     }
 
@@ -85,6 +88,8 @@ impl Diagnostics {
             };
             writeln!(diagnostics.file, "{line}")?;
             diagnostics.rows += 1;
+            let time = line.split(',').nth(1).and_then(|t| t.parse().ok());
+            diagnostics.times.push(time.unwrap_or(f64::NAN));
         }
         drop(lines);
         if source == previous {
@@ -140,7 +145,14 @@ impl Diagnostics {
         }
         writeln!(self.file, "{row}")?;
         self.rows += 1;
+        self.times.push(world.time());
         Ok(())
+    }
+
+    /// The simulated time (s) of every row so far, kept rows of a resumed
+    /// run included.
+    pub fn times(&self) -> &[f64] {
+        &self.times
     }
 
     /// Number of rows recorded.

@@ -1,6 +1,8 @@
-//! Outputs of a run: `diagnostics.csv` ([`Diagnostics`]) and frame
-//! sequences in legacy VTK (ParaView) and OBJ (Blender) ([`write_frame`]),
-//! and VTK frames read back ([`read_vtk_frame`]).
+//! Outputs of a run: `diagnostics.csv` ([`Diagnostics`]); frame sequences
+//! ([`write_frame`]) in VTK XML `.vtu` (the default) and legacy `.vtk`
+//! (ParaView, VTK, pyvista, meshio; both described in `frame.rs`) with
+//! their time-series file ([`write_series`]), and in OBJ (Blender); and
+//! VTK frames read back ([`read_vtk_frame`]).
 //!
 //! Every file is written completely or not at all: it is written under a
 //! temporary name beside its final place and renamed into place only once
@@ -11,12 +13,18 @@
 
 mod atomic;
 mod diagnostics;
+mod frame;
 mod obj;
+mod series;
 mod vtk;
 mod vtk_read;
+mod vtu;
+mod vtu_read;
 
 pub use atomic::AtomicFile;
 pub use diagnostics::{Diagnostics, Real};
+pub use frame::CellKind;
+pub use series::{series_path, write_series};
 pub use vtk_read::{read_vtk_frame, DataArray, VtkFrame, VtkReadError};
 
 use std::io;
@@ -27,16 +35,24 @@ use sprung::World;
 /// A frame file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FrameFormat {
-    /// Legacy VTK polydata (`.vtk`): ParaView opens the numbered sequence.
+    /// VTK XML unstructured grid (`.vtu`), binary and compressed: the
+    /// default; ParaView plays the sequence through `frames.pvd`.
+    Vtu,
+    /// Legacy VTK unstructured grid, ASCII (`.vtk`); ParaView plays the
+    /// sequence through `frames.vtk.series`.
     Vtk,
     /// Wavefront OBJ (`.obj`): Blender imports the numbered sequence.
     Obj,
 }
 
 impl FrameFormat {
+    /// Every format, the default first.
+    pub const ALL: [FrameFormat; 3] = [FrameFormat::Vtu, FrameFormat::Vtk, FrameFormat::Obj];
+
     /// The file extension, without the dot.
     pub fn extension(self) -> &'static str {
         match self {
+            FrameFormat::Vtu => "vtu",
             FrameFormat::Vtk => "vtk",
             FrameFormat::Obj => "obj",
         }
@@ -47,13 +63,10 @@ impl std::str::FromStr for FrameFormat {
     type Err = String;
 
     fn from_str(name: &str) -> Result<Self, String> {
-        match name {
-            "vtk" => Ok(FrameFormat::Vtk),
-            "obj" => Ok(FrameFormat::Obj),
-            other => Err(format!(
-                "unknown frame format \"{other}\" (known: vtk, obj)"
-            )),
-        }
+        FrameFormat::ALL
+            .into_iter()
+            .find(|f| f.extension() == name)
+            .ok_or_else(|| format!("unknown frame format \"{name}\" (known: vtu, vtk, obj)"))
     }
 }
 
@@ -72,9 +85,10 @@ pub fn write_frame(
 ) -> io::Result<PathBuf> {
     let path = frame_path(dir, index, format);
     let bytes = match format {
-        FrameFormat::Vtk => vtk::render(world),
-        FrameFormat::Obj => obj::render(world),
+        FrameFormat::Vtu => vtu::render(world),
+        FrameFormat::Vtk => vtk::render(world).into_bytes(),
+        FrameFormat::Obj => obj::render(world).into_bytes(),
     };
-    AtomicFile::write(&path, bytes.as_bytes())?;
+    AtomicFile::write(&path, &bytes)?;
     Ok(path)
 }

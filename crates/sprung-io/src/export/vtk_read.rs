@@ -1,7 +1,8 @@
-//! Reading legacy VTK polydata (ASCII) frames back, as `sprung run
-//! --format vtk` writes them (and as ParaView and other tools write simple
-//! polydata): points, the four cell kinds, and point and cell data
-//! (`SCALARS`, `VECTORS`, `NORMALS`, `FIELD` arrays).
+//! Reading VTK frames back, as `sprung run --format vtu|vtk` writes them
+//! (and as ParaView and other tools write simple ones): legacy ASCII
+//! `POLYDATA` and `UNSTRUCTURED_GRID` here, VTK XML `.vtu` in `vtu_read`;
+//! points, cells sorted into the four polydata kinds, and point, cell and
+//! field data (`SCALARS`, `VECTORS`, `NORMALS`, `FIELD` arrays).
 //!
 //! Nothing in the file is trusted: every count is checked against what
 //! follows, every index against the points, and any problem is a
@@ -36,8 +37,11 @@ pub struct VtkFrame {
     /// Point data arrays by name, one tuple per point.
     pub point_data: BTreeMap<String, DataArray>,
     /// Cell data arrays by name, one tuple per cell, in the format's cell
-    /// order: vertices, lines, polygons, strips.
+    /// order: vertices, lines, polygons, strips (the cells of an
+    /// unstructured grid are sorted into these, their data with them).
     pub cell_data: BTreeMap<String, DataArray>,
+    /// Field data arrays by name (`TIME`: the simulated time, s).
+    pub field_data: BTreeMap<String, DataArray>,
 }
 
 /// One data array: `values.len() == components × tuples`.
@@ -84,11 +88,86 @@ pub struct VtkReadError {
     pub message: String,
 }
 
-/// Read a legacy ASCII VTK polydata frame from `text`; `file` names it in
-/// errors. Binary files, other datasets and malformed content are refused
-/// with the file and line.
+/// Read a VTK frame from `text`: VTK XML (`.vtu`, when the text starts
+/// with `<`) or legacy ASCII polydata or unstructured grid; `file` names it
+/// in errors. Binary legacy files, other datasets, cells that are not
+/// points, lines or polygons, and malformed content are refused with the
+/// file and line.
 pub fn read_vtk_frame(text: &str, file: &Path) -> Result<VtkFrame, VtkReadError> {
-    Reader::new(text, file).read()
+    if text.trim_start().starts_with('<') {
+        return super::vtu_read::read_vtu(text, file);
+    }
+    let mut frame = Reader::new(text, file).read()?;
+    if frame.time.is_none() {
+        frame.time = frame
+            .field_data
+            .get("TIME")
+            .and_then(|a| a.values.first().copied());
+    }
+    Ok(frame)
+}
+
+/// Sort the cells of an unstructured grid (`cells` with their VTK `types`)
+/// into `frame`'s vertices, lines, polygons and strips, and reorder its
+/// cell data the same way; `line` places an error. Cell types other than
+/// vertices, lines, triangles, polygons, quads and strips are refused.
+pub(crate) fn sort_cells(
+    frame: &mut VtkFrame,
+    cells: Vec<Vec<u32>>,
+    types: &[u8],
+    file: &Path,
+    line: usize,
+) -> Result<(), VtkReadError> {
+    let error = |message: String| VtkReadError {
+        file: file.to_path_buf(),
+        line,
+        message,
+    };
+    if types.len() != cells.len() {
+        return Err(error(format!(
+            "{} cell types for {} cells",
+            types.len(),
+            cells.len()
+        )));
+    }
+    // The group of each cell: 0 vertices, 1 lines, 2 polygons, 3 strips.
+    let mut groups = Vec::with_capacity(cells.len());
+    for &t in types {
+        groups.push(match t {
+            1 | 2 => 0,
+            3 | 4 => 1,
+            5 | 7 | 9 => 2,
+            6 => 3,
+            other => {
+                return Err(error(format!(
+                    "cell type {other} is not a point, line or polygon"
+                )))
+            }
+        });
+    }
+    let mut order: Vec<usize> = (0..cells.len()).collect();
+    order.sort_by_key(|&c| groups[c]);
+    let mut cells: Vec<Option<Vec<u32>>> = cells.into_iter().map(Some).collect();
+    for &c in &order {
+        let cell = cells[c].take().unwrap_or_default();
+        match groups[c] {
+            0 => frame.vertices.push(cell),
+            1 => frame.lines.push(cell),
+            2 => frame.polygons.push(cell),
+            _ => frame.strips.push(cell),
+        }
+    }
+    for array in frame.cell_data.values_mut() {
+        let k = array.components;
+        if array.values.len() != k * order.len() {
+            continue;
+        }
+        array.values = order
+            .iter()
+            .flat_map(|&c| array.values[c * k..(c + 1) * k].to_vec())
+            .collect();
+    }
+    Ok(())
 }
 
 /// Which attribute section is open.
@@ -202,17 +281,43 @@ impl<'a> Reader<'a> {
         }
         self.keyword("DATASET")?;
         let (dataset, line) = self.token("the dataset type")?;
-        if !dataset.eq_ignore_ascii_case("POLYDATA") {
+        let grid = dataset.eq_ignore_ascii_case("UNSTRUCTURED_GRID");
+        if !(grid || dataset.eq_ignore_ascii_case("POLYDATA")) {
             return Err(self.error(
                 line,
-                format!("DATASET {dataset}: only POLYDATA can be read"),
+                format!("DATASET {dataset}: only POLYDATA and UNSTRUCTURED_GRID can be read"),
             ));
         }
         let mut section = Section::None;
+        // An unstructured grid's cells, sorted by type at the end.
+        let mut grid_cells: Vec<Vec<u32>> = Vec::new();
+        let mut grid_types: Vec<u8> = Vec::new();
+        let mut types_line = 1;
         while self.next < self.tokens.len() {
             let (keyword, line) = self.token("a section")?;
             match keyword.to_ascii_uppercase().as_str() {
                 "POINTS" => self.points(&mut frame, line)?,
+                "CELLS" if grid => {
+                    grid_cells = self.cells(&frame, "CELLS")?;
+                    // Counted as vertices until sorted, for CELL_DATA's count.
+                    frame.vertices = vec![Vec::new(); grid_cells.len()];
+                }
+                "CELL_TYPES" if grid => {
+                    types_line = line;
+                    let n = self.count("the number of cell types")?;
+                    grid_types = self
+                        .numbers(n, "a cell type")?
+                        .into_iter()
+                        .map(|t| {
+                            if (0.0..=255.0).contains(&t) {
+                                t as u8
+                            } else {
+                                0
+                            }
+                        })
+                        .collect();
+                }
+                "FIELD" if section == Section::None => self.field(&mut frame, Section::None)?,
                 "VERTICES" => frame.vertices = self.cells(&frame, "VERTICES")?,
                 "LINES" => frame.lines = self.cells(&frame, "LINES")?,
                 "POLYGONS" => frame.polygons = self.cells(&frame, "POLYGONS")?,
@@ -224,6 +329,10 @@ impl<'a> Reader<'a> {
                 }
                 _ => return Err(self.error(line, format!("unknown section \"{keyword}\""))),
             }
+        }
+        if grid {
+            frame.vertices.clear();
+            sort_cells(&mut frame, grid_cells, &grid_types, self.file, types_line)?;
         }
         Ok(frame)
     }
@@ -391,7 +500,8 @@ impl<'a> Reader<'a> {
         let array = DataArray { components, values };
         let target = match section {
             Section::Cell(_) => &mut frame.cell_data,
-            _ => &mut frame.point_data,
+            Section::Point(_) => &mut frame.point_data,
+            Section::None => &mut frame.field_data,
         };
         target.insert(name.to_string(), array);
         Ok(())

@@ -110,7 +110,7 @@ pub fn draw(
     // keep the order faces, obstacles, springs.
     items.sort_by(|a, b| b.0.total_cmp(&a.0));
     let light = light_direction(camera);
-    let smooth = vertex_normals(&model.faces, position);
+    let smooth = sprung::surface::vertex_normals(&model.faces, position);
     let (spring_width, spring_alpha) = if model.faces.is_empty() {
         (style.line_width, 255)
     } else {
@@ -200,24 +200,6 @@ pub fn draw(
 fn light_direction(camera: &Camera) -> Vec3 {
     let (right, up, back) = camera.axes();
     (-0.3 * right + 0.7 * up + 0.65 * back).normalize()
-}
-
-/// Area-weighted mean normals at the particles (unnormalised; zero for
-/// particles on no face).
-fn vertex_normals(faces: &[[u32; 3]], position: &[Vec3]) -> Vec<Vec3> {
-    let mut normals = vec![Vec3::ZERO; position.len()];
-    for face in faces {
-        let [Some(&a), Some(&b), Some(&c)] = face.map(|i| position.get(i as usize)) else {
-            continue;
-        };
-        let n = (b - a).cross(c - a);
-        if n.is_finite() {
-            for i in face {
-                normals[*i as usize] += n;
-            }
-        }
-    }
-    normals
 }
 
 /// Fill a face, lit through `smooth` (the sum of its corners' mean

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use sprung::{Real, Shape, Vec3, World};
-use sprung_io::export::VtkFrame;
+use sprung_io::export::{CellKind, VtkFrame};
 
 /// The topology drawn: shared by every snapshot of a run that keeps it.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -75,21 +75,31 @@ impl Model {
 
     /// The model of a VTK frame: `LINES` as springs (a polyline as one
     /// spring per piece), the `rest_length` cell scalars if present (else
-    /// NaN), `POLYGONS` as triangle fans, the `outline` cell flags chained
-    /// into 2D loops, lines flagged by the `rod` cell scalars as rods, and
-    /// the `pinned` point scalars.
+    /// NaN), `POLYGONS` as triangle fans, the lines of `kind` segment (or
+    /// flagged by the `outline` cell scalars of older frames) chained into
+    /// 2D loops, lines of `kind` rod (or flagged by `rod`) as rods, and the
+    /// `pinned` point scalars.
     pub fn from_vtk(frame: &VtkFrame) -> Self {
         let rest = frame.line_scalars("rest_length");
         let outline = frame.line_scalars("outline");
         let rod = frame.line_scalars("rod");
+        // sprung's unstructured grids say what each cell is.
+        let kind = frame.line_scalars("kind");
+        let is = |cell: usize, wanted: CellKind| {
+            kind.is_some_and(|k| CellKind::from_value(k[cell]) == Some(wanted))
+        };
         let mut rods = Vec::new();
         let mut springs = Vec::with_capacity(frame.lines.len());
         let mut rest_length = Vec::with_capacity(frame.lines.len());
         let mut outline_edges = Vec::new();
         for (cell, line) in frame.lines.iter().enumerate() {
             let single = line.len() == 2;
-            if single && rod.is_some_and(|r| r[cell] != 0.0) {
+            if single && (is(cell, CellKind::Rod) || rod.is_some_and(|r| r[cell] != 0.0)) {
                 rods.push([line[0], line[1]]);
+                continue;
+            }
+            if single && is(cell, CellKind::Segment) {
+                outline_edges.push([line[0], line[1]]);
                 continue;
             }
             for pair in line.windows(2) {

@@ -58,9 +58,10 @@ pub fn record(world: &mut World, dt: Real, steps: u64, every: u64) -> Recording 
     }
 }
 
-/// The VTK frames of the run in `dir`: `dir/frames/frame_*.vtk` (or
-/// `dir/frame_*.vtk` when `dir` is the frames folder itself), sorted by
-/// name. No frame at all is an error naming the folder.
+/// The VTK frames of the run in `dir`: `dir/frames/frame_*.vtu` or
+/// `frame_*.vtk` (or in `dir` when it is the frames folder itself), sorted
+/// by name; `.vtu` frames when there are both. No frame at all is an error
+/// naming the folder.
 pub fn frame_files(dir: &Path) -> Result<Vec<PathBuf>, RenderError> {
     let frames = dir.join("frames");
     let folder = if frames.is_dir() {
@@ -69,18 +70,27 @@ pub fn frame_files(dir: &Path) -> Result<Vec<PathBuf>, RenderError> {
         dir.to_path_buf()
     };
     let entries = std::fs::read_dir(&folder).map_err(|e| RenderError::io(&folder, e))?;
-    let mut files: Vec<PathBuf> = entries
+    let frames: Vec<PathBuf> = entries
         .flatten()
         .map(|entry| entry.path())
         .filter(|path| {
             path.is_file()
-                && path.extension().is_some_and(|e| e == "vtk")
                 && path
                     .file_name()
                     .is_some_and(|n| n.to_string_lossy().starts_with("frame_"))
         })
         .collect();
-    files.sort();
+    let of = |extension: &str| -> Vec<PathBuf> {
+        let mut files: Vec<PathBuf> = frames
+            .iter()
+            .filter(|p| p.extension().is_some_and(|e| e == extension))
+            .cloned()
+            .collect();
+        files.sort();
+        files
+    };
+    let vtu = of("vtu");
+    let files = if vtu.is_empty() { of("vtk") } else { vtu };
     if files.is_empty() {
         return Err(RenderError::NoFrames(dir.join("frames")));
     }
