@@ -5,7 +5,7 @@ use std::path::Path;
 
 use sprung::IntegratorKind;
 use sprung_io::demos::{self, DEFAULT_DEMO, DEMOS};
-use sprung_io::export::FrameFormat;
+use sprung_io::export::{FrameFormat, OutputFormat};
 
 use crate::run::{run_scene, CliError};
 use crate::RunOptions;
@@ -43,7 +43,9 @@ pub fn run(name: Option<&str>, options: &RunOptions) -> Result<(), CliError> {
         .clone()
         .unwrap_or_else(|| Path::new("out").join("demo").join(demo.name));
     let mut options = options.clone();
-    options.format = options.format.or(Some(FrameFormat::Vtu));
+    options.format = options
+        .format
+        .or(Some(OutputFormat::Frames(FrameFormat::Vtu)));
     let kinds: Vec<Option<IntegratorKind>> = if demo.every_integrator {
         IntegratorKind::ALL.into_iter().map(Some).collect()
     } else {

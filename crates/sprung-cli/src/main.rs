@@ -14,6 +14,7 @@ mod checkpoint;
 static ALLOCATOR: bench::memory::Counting = bench::memory::Counting;
 mod demos;
 mod interrupt;
+mod outputs;
 mod plot;
 mod render;
 mod run;
@@ -26,7 +27,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 use sprung::IntegratorKind;
-use sprung_io::export::FrameFormat;
+use sprung_io::export::OutputFormat;
 
 /// A mass-spring-damper simulator of elastic materials.
 #[derive(Debug, Parser)]
@@ -93,9 +94,10 @@ pub struct RunOptions {
     /// scene's `every`, else 50 records per simulated second).
     #[arg(long, value_parser = values::at_least_one)]
     every: Option<u64>,
-    /// Write frames to DIR/frames in this format.
+    /// Write frames to DIR/frames in this format (vtu, vtk, obj), or the
+    /// whole run as one glTF animation, DIR/animation.glb (gltf).
     #[arg(long)]
-    format: Option<FrameFormat>,
+    format: Option<OutputFormat>,
     /// Particle indices whose positions go to diagnostics.csv, e.g. 0,5,9.
     #[arg(long, value_delimiter = ',')]
     probe: Vec<usize>,

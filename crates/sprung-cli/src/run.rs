@@ -7,11 +7,11 @@ use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
 use sprung::{Real, StepError};
-use sprung_io::export::{self, Diagnostics};
 use sprung_io::{load_scene, Scene, SceneError};
 
 use crate::checkpoint;
 use crate::interrupt::{self, Signal};
+use crate::outputs::Outputs;
 use crate::RunOptions;
 
 /// Records per simulated second when neither the scene nor `--every` says.
@@ -125,81 +125,25 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         }
         None => None,
     };
-    let frames_dir = out.join("frames");
-    let first_frame = resumed.map_or(0, |r| r.rows);
-    prepare_output(
-        out,
-        options.format.map(|_| frames_dir.as_path()),
-        first_frame,
-    )?;
-    let io = |e: std::io::Error| CliError::Io(format!("cannot write to {}: {e}", out.display()));
-    let csv = out.join("diagnostics.csv");
-    let mut diagnostics = match resumed {
-        None => Diagnostics::create(&csv, &scene.world, &options.probe).map_err(io)?,
-        Some(r) => Diagnostics::resume(&csv, &scene.world, &options.probe, r.rows)
-            .map_err(|e| CliError::Input(e.to_string()))?
-            .ok_or_else(|| {
-                CliError::Input(format!(
-                    "--resume goes on with the run in {}, but there is no diagnostics.csv there (give the --out of the run that saved the state)",
-                    out.display()
-                ))
-            })?,
-    };
-    let mut frames = 0;
-    let mut record =
-        |world: &sprung::World, diagnostics: &mut Diagnostics| -> Result<(), CliError> {
-            // Frame n goes with row n, in a resumed run too.
-            let index = diagnostics.rows();
-            diagnostics.record(world).map_err(io)?;
-            if let Some(format) = options.format {
-                export::write_frame(&frames_dir, index, world, format).map_err(io)?;
-                frames += 1;
-            }
-            Ok(())
-        };
-    // The frames' time-series file, rewritten at each checkpoint and at
-    // the end (however the run ends).
-    let series = |world: &sprung::World, diagnostics: &Diagnostics| -> Result<(), CliError> {
-        match options.format {
-            Some(format) => export::write_series(&frames_dir, format, world, diagnostics.times())
-                .map_err(|e| {
-                    CliError::Io(format!("cannot write to {}: {e}", frames_dir.display()))
-                }),
-            None => Ok(()),
-        }
-    };
-    let save = |world: &sprung::World, rows: usize| -> Result<(), CliError> {
-        match &options.save_state {
-            Some(path) => checkpoint::save(path, world, rows, scene.dt),
-            None => Ok(()),
-        }
-    };
+    // Rows this run will record, at most (for the animation's budget).
+    let records = (steps - scene.world.steps()) / every + 2;
+    let mut outputs = Outputs::open(out, &scene.world, scene.dt, options, resumed, records)?;
     if resumed.is_none() {
-        record(&scene.world, &mut diagnostics)?;
+        outputs.record(&scene.world)?;
     }
     interrupt::install();
     let progress = progress_bar(steps, options.quiet);
     progress.set_position(scene.world.steps());
-    let mut checkpoints = 0;
     let first_step = scene.world.steps() + 1;
     for step in first_step..=steps {
         if let Some(signal) = interrupt::received() {
             progress.abandon();
-            let rows = diagnostics.rows();
-            series(&scene.world, &diagnostics)?;
-            diagnostics.finish().map_err(io)?;
-            save(&scene.world, rows)?;
+            let rows = outputs.rows();
+            let place = outputs.finish(&scene.world, rows, options.save_state.is_some())?;
             let message = format!(
-                "stopped after step {} (t = {} s): {rows} rows in {}{}{}",
+                "stopped after step {} (t = {} s): {place}",
                 step - 1,
                 scene.world.time(),
-                csv.display(),
-                if frames > 0 {
-                    format!(", {frames} frames in {}", frames_dir.display())
-                } else {
-                    String::new()
-                },
-                saved_note(options),
             );
             return Err(CliError::Interrupted(signal, message));
         }
@@ -223,38 +167,28 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
             Ok(_) => {}
             Err(error) => {
                 progress.abandon();
-                series(&scene.world, &diagnostics)?;
-                diagnostics.finish().map_err(io)?;
-                let mut kept = format!(
-                    "diagnostics up to the last good step are in {}",
-                    csv.display()
-                );
-                if let (Some(path), true) = (&options.save_state, checkpoints > 0) {
-                    kept.push_str(&format!("; the last checkpoint is in {}", path.display()));
-                }
+                // The blown-up state is not saved: the last checkpoint stays.
+                let place = outputs.finish(&scene.world, 0, false)?;
+                let kept = format!("kept up to the last good step: {place}");
                 return Err(CliError::BlowUp(error, kept));
             }
         }
         if step % every == 0 || step == steps {
-            record(&scene.world, &mut diagnostics)?;
+            outputs.record(&scene.world)?;
         }
         if options.checkpoint_every.is_some_and(|k| step % k == 0) && step != steps {
-            diagnostics.flush().map_err(io)?;
-            series(&scene.world, &diagnostics)?;
-            save(&scene.world, diagnostics.rows())?;
-            checkpoints += 1;
+            outputs.checkpoint(&scene.world)?;
         }
         if step % 256 == 0 {
             progress.set_position(step);
         }
     }
     progress.finish_and_clear();
-    let rows = diagnostics.rows();
-    series(&scene.world, &diagnostics)?;
-    diagnostics.finish().map_err(io)?;
     // The last row, recorded because the run ended there, is not one of
     // the every-K rows a longer run has: a run resumed from here drops it.
-    save(&scene.world, rows - usize::from(steps % every != 0))?;
+    let rows = outputs.rows();
+    let state_rows = rows - usize::from(steps % every != 0);
+    let place = outputs.finish(&scene.world, state_rows, options.save_state.is_some())?;
     let rods_off = scene.world.constraint_stats().unconverged_steps;
     if rods_off > 0 {
         eprintln!(
@@ -270,7 +204,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
     }
     if !options.quiet {
         println!(
-            "{}: {} of {} s ({} s simulated, {}), {rows} rows{} in {}{}",
+            "{}: {} of {} s ({} s simulated, {}): {place}",
             scene.path.display(),
             match resumed {
                 Some(_) => format!("steps {first_step} to {steps}"),
@@ -279,13 +213,6 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
             scene.dt,
             scene.world.time(),
             scene.world.integrator(),
-            if frames > 0 {
-                format!(", {frames} frames")
-            } else {
-                String::new()
-            },
-            out.display(),
-            saved_note(options),
         );
     }
     Ok(())
@@ -353,41 +280,6 @@ pub(crate) fn planned_steps(
         (None, Some(t)) => checked_steps(t / scene.dt, "--time"),
         (None, None) => Ok(scene.steps),
     }
-}
-
-/// `; state saved to FILE` where the run saves its state.
-fn saved_note(options: &RunOptions) -> String {
-    options
-        .save_state
-        .as_ref()
-        .map(|path| format!("; state saved to {}", path.display()))
-        .unwrap_or_default()
-}
-
-/// Create the output folder and, for frames, `frames/` without frames
-/// numbered from `first_frame` on (earlier frames of this run's format
-/// would mix into the new sequence; a resumed run keeps those before).
-fn prepare_output(out: &Path, frames: Option<&Path>, first_frame: usize) -> Result<(), CliError> {
-    let fail = |e: std::io::Error, dir: &Path| {
-        CliError::Io(format!("cannot create {}: {e}", dir.display()))
-    };
-    std::fs::create_dir_all(out).map_err(|e| fail(e, out))?;
-    if let Some(dir) = frames {
-        std::fs::create_dir_all(dir).map_err(|e| fail(e, dir))?;
-        let stale = std::fs::read_dir(dir).map_err(|e| fail(e, dir))?;
-        for entry in stale.flatten() {
-            let name = entry.file_name();
-            let name = name.to_string_lossy();
-            let index = name
-                .strip_prefix("frame_")
-                .map(|rest| rest.split('.').next().unwrap_or_default().parse::<usize>());
-            // Kept: frames of a resumed run's earlier part.
-            if index.is_some_and(|n| n.map_or(true, |n| n >= first_frame)) {
-                std::fs::remove_file(entry.path()).map_err(|e| fail(e, dir))?;
-            }
-        }
-    }
-    Ok(())
 }
 
 /// A progress bar with rate and time left on a terminal; hidden when stderr

@@ -91,9 +91,12 @@ struct Row {
     /// The most heap in use while it steps: the running world's footprint
     /// (bytes).
     stepping_bytes: usize,
-    /// Bytes allocated per timed step: zero once a world's buffers have
-    /// their size; the contact scenes grow theirs while contacts form
-    /// (candidate pairs, the broad phase's grid), to a high-water mark.
+    /// Bytes allocated by the median timed step: zero once a world's
+    /// buffers have their size (the contact scenes grow theirs while
+    /// contacts form, to a high-water mark). The median, not the mean: the
+    /// count is the whole process's, and the thread pool's own bookkeeping
+    /// (its job queues grow and shrink with the scheduling) now and then
+    /// allocates during one step; a step that allocates every time shows.
     allocated_per_step: usize,
     /// Seconds per step of the same case on one thread.
     one_thread: f64,
@@ -110,6 +113,12 @@ impl Row {
     fn particle_updates(&self) -> f64 {
         self.particles as f64 / self.seconds_per_step
     }
+}
+
+/// The median of `values` (0 for none).
+fn median(values: &mut [usize]) -> usize {
+    values.sort_unstable();
+    values.get(values.len() / 2).copied().unwrap_or(0)
 }
 
 /// Run the bench (or the demos' real-time factors) and print the table.
@@ -223,7 +232,8 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
         let built_peak = start_mark.peak();
         let stepping = memory::mark();
         let in_use = start_mark.in_use_since();
-        let (mut elapsed, mut taken, mut allocated) = (0.0, 0u32, 0);
+        let (mut elapsed, mut taken) = (0.0, 0u32);
+        let mut allocated: Vec<usize> = Vec::with_capacity(steps as usize + 1024);
         let mut since_restart = 0u32;
         let longest = seconds.max(LONGEST_SECONDS);
         while taken == 0 || ((taken < steps || elapsed < seconds) && elapsed < longest) {
@@ -238,7 +248,7 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
                     taken += 1;
                     since_restart += 1;
                     elapsed += took;
-                    allocated += memory::allocated() - before;
+                    allocated.push(memory::allocated() - before);
                 }
                 // Blowing up before any step counts (or again at once after
                 // a restart) would never end: the case cannot be timed.
@@ -269,7 +279,7 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
                 .then(|| kind.evaluations_per_step()),
             peak_bytes: built_peak.max(start_mark.peak()),
             stepping_bytes: in_use + stepping.peak(),
-            allocated_per_step: allocated / taken as usize,
+            allocated_per_step: median(&mut allocated),
             one_thread: 0.0,
             reference: None,
         })

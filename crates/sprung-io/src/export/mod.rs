@@ -11,6 +11,7 @@
 //! To add a frame format: a file here rendering a [`sprung::World`] to
 //! bytes, and a variant of [`FrameFormat`].
 
+mod animation;
 mod atomic;
 mod diagnostics;
 mod frame;
@@ -21,6 +22,7 @@ mod vtk_read;
 mod vtu;
 mod vtu_read;
 
+pub use animation::Animation;
 pub use atomic::AtomicFile;
 pub use diagnostics::{Diagnostics, Real};
 pub use frame::CellKind;
@@ -67,6 +69,29 @@ impl std::str::FromStr for FrameFormat {
             .into_iter()
             .find(|f| f.extension() == name)
             .ok_or_else(|| format!("unknown frame format \"{name}\" (known: vtu, vtk, obj)"))
+    }
+}
+
+/// What `--format` asks a run to write: a frame file per record, or one
+/// glTF animation of the whole run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutputFormat {
+    /// Frame files in this format (with their series file).
+    Frames(FrameFormat),
+    /// One binary glTF file, `animation.glb` ([`Animation`]).
+    Gltf,
+}
+
+impl std::str::FromStr for OutputFormat {
+    type Err = String;
+
+    fn from_str(name: &str) -> Result<Self, String> {
+        match name {
+            "gltf" | "glb" => Ok(OutputFormat::Gltf),
+            _ => name.parse().map(OutputFormat::Frames).map_err(|_| {
+                format!("unknown frame format \"{name}\" (known: vtu, vtk, obj, gltf)")
+            }),
+        }
     }
 }
 
