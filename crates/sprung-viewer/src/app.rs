@@ -145,10 +145,7 @@ impl App {
     /// The demo `step` places after (or before) the one shown.
     pub fn next_scene(&mut self, step: i32) {
         let count = DEMOS.len() as i32;
-        let current = match self.source {
-            Source::Demo(i) => i as i32,
-            Source::File(_) => -1,
-        };
+        let current = self.source.demo().map_or(-1, |i| i as i32);
         let next = (current + step).rem_euclid(count) as usize;
         self.open(Source::Demo(next), None);
     }
@@ -175,6 +172,10 @@ impl App {
         self.frame_time += 0.05 * (wall - self.frame_time);
         if let Some(index) = probe::lock().request.take() {
             self.open(Source::Demo(index), None);
+        }
+        let upload = probe::lock().scene_request.take();
+        if let Some(upload) = upload {
+            self.open(Source::Upload(std::sync::Arc::new(upload)), None);
         }
         let viewport = self.viewport();
         let panel = Rect::new(0.0, 0.0, PANEL_WIDTH, screen_height());
@@ -258,15 +259,16 @@ impl App {
         probe.fps = 1.0 / self.frame_time.max(1e-6);
         probe.grabbed = self.hand.grab.map(|g| g.particle);
         probe.cursor = to_f64_array(self.cursor_world);
-        probe.demo = match self.source {
-            Source::Demo(i) => Some(i),
-            Source::File(_) => None,
-        };
+        probe.demo = self.source.demo();
         probe.error = self.error.is_some();
+        probe.message = self.error.clone().unwrap_or_default();
         probe.positions.clear();
         probe.screen.clear();
         if let Some(sim) = &self.sim {
             probe.error |= sim.failure.is_some();
+            if let Some(failure) = &sim.failure {
+                probe.message = failure.clone();
+            }
             probe.time = sim.world.time();
             for &p in &sim.world.particles.position {
                 probe.positions.push(p.to_array());

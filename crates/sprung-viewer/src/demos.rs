@@ -1,11 +1,58 @@
 //! Where the viewer's scene comes from: one of the demos compiled into
 //! `sprung_io::demos` (with their meshes, so the web page needs no files
-//! beside it), or a scene file on the disk.
+//! beside it), a scene file on the disk, or a scene the web page handed
+//! over (picked, dropped or fetched) with the mesh files beside it.
 
-use std::path::PathBuf;
+use std::io;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-use sprung_io::demos::DEMOS;
-use sprung_io::{parse_scene_with, Disk, Scene};
+use sprung_io::demos::{Bundled, DEMOS};
+use sprung_io::{parse_scene_with, Disk, FileSource, Scene};
+
+/// A scene handed over by the web page: its file name, its text, and the
+/// files that came with it (meshes), by name.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Upload {
+    /// The scene file's name (for errors, and to place its meshes).
+    pub name: String,
+    /// The scene file's bytes (TOML, UTF-8 unless broken).
+    pub text: Vec<u8>,
+    /// Files that came with it: `(name, bytes)`.
+    pub files: Vec<(String, Vec<u8>)>,
+}
+
+impl FileSource for Upload {
+    /// A file that came with the scene, by its path or else by its name
+    /// alone (a dropped `horse.obj` serves `meshes/horse.obj`); else one of
+    /// the meshes built into sprung.
+    fn read(&self, path: &Path) -> io::Result<Vec<u8>> {
+        let wanted = path.to_string_lossy();
+        let name = path.file_name().map(|n| n.to_string_lossy());
+        let found = self
+            .files
+            .iter()
+            .find(|(file, _)| *file == wanted)
+            .or_else(|| {
+                self.files
+                    .iter()
+                    .find(|(file, _)| Some(file.as_str()) == name.as_deref())
+            });
+        match found {
+            Some((_, bytes)) => Ok(bytes.clone()),
+            None => Bundled.read(path).map_err(|_| {
+                io::Error::new(
+                    io::ErrorKind::NotFound,
+                    format!(
+                        "{} was not given with the scene (open or drop it together with {}) and is not one of the meshes built into sprung",
+                        path.display(),
+                        self.name
+                    ),
+                )
+            }),
+        }
+    }
+}
 
 /// The index of the demo called `name` in `sprung_io::demos::DEMOS`.
 pub fn find(name: &str) -> Option<usize> {
@@ -19,6 +66,8 @@ pub enum Source {
     Demo(usize),
     /// A scene file, read again at every reset.
     File(PathBuf),
+    /// A scene the web page handed over.
+    Upload(Arc<Upload>),
 }
 
 impl Source {
@@ -27,13 +76,22 @@ impl Source {
         match self {
             Source::Demo(index) => DEMOS.get(*index).map_or("?", |d| d.name).to_string(),
             Source::File(path) => path.display().to_string(),
+            Source::Upload(upload) => upload.name.clone(),
+        }
+    }
+
+    /// The demo's index, for a demo.
+    pub fn demo(&self) -> Option<usize> {
+        match self {
+            Source::Demo(index) => Some(*index),
+            _ => None,
         }
     }
 
     /// The name without its folders (for narrow places).
     pub fn short_label(&self) -> String {
         match self {
-            Source::Demo(_) => self.label(),
+            Source::Demo(_) | Source::Upload(_) => self.label(),
             Source::File(path) => path
                 .file_name()
                 .map_or_else(|| self.label(), |n| n.to_string_lossy().into_owned()),
@@ -55,6 +113,12 @@ impl Source {
                     .map_err(|e| format!("{}: cannot read the scene file: {e}", path.display()))?;
                 parse_scene_with(&text, path, &Disk).map_err(|e| e.to_string())
             }
+            Source::Upload(upload) => {
+                let path = Path::new(&upload.name);
+                let text =
+                    sprung_io::scene::scene_text(&upload.text, path).map_err(|e| e.to_string())?;
+                parse_scene_with(text, path, upload.as_ref()).map_err(|e| e.to_string())
+            }
         }
     }
 }
@@ -69,6 +133,45 @@ mod tests {
             let scene = Source::Demo(index).load();
             assert!(scene.is_ok(), "{}: {:?}", demo.name, scene.err());
         }
+    }
+
+    #[test]
+    fn an_upload_finds_its_meshes_by_path_or_name_then_built_in() {
+        let cube = std::fs::read("../../scenes/meshes/cube.asc").expect("cube");
+        let upload = Upload {
+            name: "mine.toml".into(),
+            text: b"[sim]\ndt = 1e-3\n\n[[body]]\nname = \"a\"\nmesh = \"shapes/box.asc\"\n\n[[body]]\nname = \"b\"\nmesh = \"meshes/horse.obj\"\nscale = 5.0\ntranslate = [3.0, 0.0, 0.0]\n".to_vec(),
+            files: vec![("box.asc".into(), cube)],
+        };
+        let scene = Source::Upload(Arc::new(upload.clone()))
+            .load()
+            .expect("loads");
+        assert_eq!(scene.world.body("a").expect("a").particles.len(), 8);
+        assert_eq!(scene.world.body("b").expect("b").particles.len(), 4002);
+        let missing = Upload {
+            files: Vec::new(),
+            ..upload
+        };
+        let error = Source::Upload(Arc::new(missing.clone()))
+            .load()
+            .err()
+            .unwrap_or_default();
+        assert!(
+            error.contains("mine.toml") && error.contains("shapes/box.asc"),
+            "{error}"
+        );
+        let broken = Upload {
+            text: b"[sim]\ndt = \xff\n".to_vec(),
+            ..missing
+        };
+        let error = Source::Upload(Arc::new(broken))
+            .load()
+            .err()
+            .unwrap_or_default();
+        assert!(
+            error.contains("mine.toml") && error.contains("line 2, byte 6"),
+            "{error}"
+        );
     }
 
     #[test]

@@ -28,10 +28,7 @@ pub fn draw(app: &mut App, area: Rect) {
         app.scene_list = !app.scene_list;
     }
     if app.scene_list {
-        let current = match app.source {
-            Source::Demo(i) => Some(i),
-            Source::File(_) => None,
-        };
+        let current = app.source.demo();
         for (row, pair) in DEMOS.chunks(2).enumerate() {
             let names: Vec<&str> = pair.iter().map(|d| d.name).collect();
             let on: Vec<bool> = (0..pair.len())

@@ -1,7 +1,13 @@
 //! The viewer's state for tests and for the web page: a copy written at the
 //! end of every frame, read through `extern "C"` functions that the wasm
 //! module exports (macroquad's `gl.js` keeps them in `wasm_exports`), and a
-//! request box the page uses to pick a demo.
+//! request box the page uses to pick a demo or to open a scene of its own.
+//!
+//! The page hands a file over through a staging buffer: it asks
+//! [`sprung_staging`] for room, writes the file's name then its bytes
+//! there, and calls [`sprung_stage_file`] (a mesh) or
+//! [`sprung_open_staged_scene`] (the scene, which takes the files staged
+//! before it).
 //!
 //! Screen positions are in the viewer's pixels (CSS pixels of the canvas on
 //! the web); world positions in metres.
@@ -9,6 +15,8 @@
 use std::sync::{Mutex, MutexGuard};
 
 use sprung_io::demos::DEMOS;
+
+use crate::demos::Upload;
 
 /// What a frame leaves behind for the page.
 #[derive(Debug, Default)]
@@ -33,6 +41,27 @@ pub struct Probe {
     pub demo: Option<usize>,
     /// A demo the page asked for, taken by the next frame.
     pub request: Option<usize>,
+    /// A scene the page handed over, taken by the next frame.
+    pub scene_request: Option<Upload>,
+    /// The error on the screen, as text (empty when there is none).
+    pub message: String,
+}
+
+/// The page's staging buffer, and the files staged for the next scene.
+struct Staging {
+    buffer: Vec<u8>,
+    files: Vec<(String, Vec<u8>)>,
+}
+
+static STAGING: Mutex<Staging> = Mutex::new(Staging {
+    buffer: Vec::new(),
+    files: Vec::new(),
+});
+
+fn staging() -> MutexGuard<'static, Staging> {
+    STAGING
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
 static PROBE: Mutex<Probe> = Mutex::new(Probe {
@@ -46,6 +75,8 @@ static PROBE: Mutex<Probe> = Mutex::new(Probe {
     error: false,
     demo: None,
     request: None,
+    scene_request: None,
+    message: String::new(),
 });
 
 /// The shared probe (a poisoned lock is still readable: the data is plain).
@@ -157,6 +188,65 @@ pub extern "C" fn sprung_select_demo(i: u32) -> i32 {
     }
 }
 
+/// Room for `len` bytes in the staging buffer: its address in the module's
+/// memory (valid until the next call into the module).
+#[no_mangle]
+pub extern "C" fn sprung_staging(len: u32) -> *mut u8 {
+    let mut staging = staging();
+    staging.buffer.clear();
+    staging.buffer.resize(len as usize, 0);
+    staging.buffer.as_mut_ptr()
+}
+
+/// The staging buffer as a name of `name_len` bytes and the file after it.
+fn staged(buffer: &[u8], name_len: u32) -> Option<(String, Vec<u8>)> {
+    let cut = (name_len as usize).min(buffer.len());
+    let name = std::str::from_utf8(&buffer[..cut]).ok()?;
+    Some((name.to_string(), buffer[cut..].to_vec()))
+}
+
+/// Keep the staged file (a mesh) for the next scene; 1 if its name is
+/// UTF-8.
+#[no_mangle]
+pub extern "C" fn sprung_stage_file(name_len: u32) -> i32 {
+    let mut staging = staging();
+    match staged(&staging.buffer, name_len) {
+        Some(file) => {
+            staging.files.push(file);
+            1
+        }
+        None => 0,
+    }
+}
+
+/// Open the staged file as the scene, with the files staged before it,
+/// from the next frame; 1 if it was taken, 0 if its name is not UTF-8.
+#[no_mangle]
+pub extern "C" fn sprung_open_staged_scene(name_len: u32) -> i32 {
+    let mut staging = staging();
+    let files = std::mem::take(&mut staging.files);
+    match staged(&staging.buffer, name_len) {
+        Some((name, text)) => {
+            lock().scene_request = Some(Upload { name, text, files });
+            1
+        }
+        None => 0,
+    }
+}
+
+/// Address of the error on the screen as UTF-8 text ([`sprung_message_len`]
+/// bytes), valid until the next frame.
+#[no_mangle]
+pub extern "C" fn sprung_message_ptr() -> usize {
+    lock().message.as_ptr() as usize
+}
+
+/// Length in bytes of the error on the screen; 0 when there is none.
+#[no_mangle]
+pub extern "C" fn sprung_message_len() -> u32 {
+    lock().message.len() as u32
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -176,5 +266,30 @@ mod tests {
         assert_eq!(sprung_select_demo(999), 0);
         assert_eq!(lock().request.take(), Some(1));
         assert_eq!(sprung_demo_name_len(0), DEMOS[0].name.len() as u32);
+    }
+
+    /// What the page does: stage a mesh, then the scene.
+    fn stage(name: &str, bytes: &[u8]) -> u32 {
+        let total = name.len() + bytes.len();
+        let at = sprung_staging(total as u32);
+        let room = unsafe { std::slice::from_raw_parts_mut(at, total) };
+        room[..name.len()].copy_from_slice(name.as_bytes());
+        room[name.len()..].copy_from_slice(bytes);
+        name.len() as u32
+    }
+
+    #[test]
+    fn the_page_hands_over_a_scene_with_its_files() {
+        let name = stage("box.asc", b"mesh bytes");
+        assert_eq!(sprung_stage_file(name), 1);
+        let name = stage("mine.toml", b"[sim]\ndt = 1e-3\n");
+        assert_eq!(sprung_open_staged_scene(name), 1);
+        let upload = lock().scene_request.take().expect("a request");
+        assert_eq!(upload.name, "mine.toml");
+        assert_eq!(upload.text, b"[sim]\ndt = 1e-3\n");
+        assert_eq!(
+            upload.files,
+            vec![("box.asc".to_string(), b"mesh bytes".to_vec())]
+        );
     }
 }

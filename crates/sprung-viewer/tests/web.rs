@@ -1,9 +1,12 @@
-//! The web viewer in a real browser: `web-tests/drag.mjs` serves the page
-//! that scripts/build-web.sh built (target/web) from 127.0.0.1, drives
-//! headless Chromium with Playwright, drags a particle with the mouse and
-//! checks from the simulation's state that it followed the cursor, and that
-//! a screenshot is not blank. Node, Playwright (`npm ci` in web-tests),
-//! Chromium and the built page come from scripts/test.sh.
+//! The web viewer in a real browser: the scripts in `web-tests` serve the
+//! page that scripts/build-web.sh built (target/web) from 127.0.0.1 and
+//! drive headless Chromium with Playwright. `drag.mjs` drags a particle with
+//! the mouse and checks from the simulation's state that it followed the
+//! cursor, and that a screenshot is not blank; `scene.mjs` opens a user's
+//! scene through the file picker and through `#scene=URL` and checks from
+//! the simulation's state that it runs, and that a broken scene and an
+//! unknown demo name are reported on the page. Node, Playwright (`npm ci`
+//! in web-tests), Chromium and the built page come from scripts/test.sh.
 
 mod common;
 
@@ -66,8 +69,8 @@ fn page() -> PathBuf {
     web
 }
 
-#[test]
-fn dragging_a_particle_in_headless_chromium_moves_it_to_the_cursor() {
+/// The browser tests' folder and Chromium, checked to be there.
+fn browser_tests() -> (PathBuf, String) {
     let tests = root().join("crates/sprung-viewer/web-tests");
     if !runs("node", &["--version"]) {
         missing("node (Node.js) is not installed");
@@ -81,6 +84,64 @@ fn dragging_a_particle_in_headless_chromium_moves_it_to_the_cursor() {
             "Chromium is not at {chromium} (Debian package chromium)"
         ));
     }
+    (tests, chromium)
+}
+
+/// A rope of 4 particles and the textbook cube (8), falling; the scene
+/// `scene.mjs` opens through the picker and through `#scene=`.
+const MINE: &str = r#"[sim]
+dt = 1e-3
+duration = 100.0
+
+[[body]]
+name = "rope"
+rope = { particles = 4, length = 1.0 }
+mass = 0.1
+stiffness = 200.0
+translate = [-2.0, 1.0, 0.0]
+
+[[body]]
+name = "box"
+mesh = "meshes/box.asc"
+total_mass = 1.0
+stiffness = 500.0
+translate = [2.0, 2.0, 0.0]
+"#;
+
+/// A scene whose line 6 asks for a rope of -4 particles.
+const BROKEN: &str =
+    "[sim]\ndt = 1e-3\n\n[[body]]\nname = \"rope\"\nrope = { particles = -4, length = 1.0 }\n";
+
+#[test]
+fn a_users_scene_opens_through_the_picker_and_the_address() {
+    let (tests, chromium) = browser_tests();
+    let web = page();
+    let scenes = out_dir("web-scenes");
+    std::fs::create_dir_all(scenes.join("meshes")).expect("scenes folder");
+    std::fs::write(scenes.join("mine.toml"), MINE).expect("scene");
+    std::fs::write(scenes.join("broken.toml"), BROKEN).expect("scene");
+    let cube = std::fs::read(root().join("scenes/meshes/cube.asc")).expect("the cube");
+    // Picked beside the scene, and served where the scene says it is.
+    std::fs::write(scenes.join("box.asc"), &cube).expect("mesh");
+    std::fs::write(scenes.join("meshes/box.asc"), &cube).expect("mesh");
+    let output = run_with_limit(
+        Command::new("node")
+            .arg(tests.join("scene.mjs"))
+            .arg(&web)
+            .arg(&scenes)
+            .env("CHROMIUM", &chromium)
+            .current_dir(&tests),
+        Duration::from_secs(240),
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}\n{stdout}");
+    println!("{stdout}");
+}
+
+#[test]
+fn dragging_a_particle_in_headless_chromium_moves_it_to_the_cursor() {
+    let (tests, chromium) = browser_tests();
     let web = page();
     let shot = out_dir("web").join("ball2d.png");
     let _ = std::fs::remove_file(&shot);

@@ -9,41 +9,12 @@
 // Prints one line of JSON with what it measured; exits 1 on a failure.
 
 import fs from "node:fs";
-import http from "node:http";
-import path from "node:path";
-import { chromium } from "playwright-core";
+import { call, checkBuilt, fail, launch, newPage, serve, waitForFrames } from "./common.mjs";
 
 const [webDir, shotPath] = process.argv.slice(2);
 if (!webDir) {
   console.error("usage: node drag.mjs WEB_DIR [SCREENSHOT.png]");
   process.exit(2);
-}
-
-const TYPES = { ".html": "text/html", ".js": "text/javascript", ".wasm": "application/wasm" };
-
-function fail(message) {
-  throw new Error(message);
-}
-
-/** A static file server for webDir on 127.0.0.1 (a free port). */
-function serve(root) {
-  const server = http.createServer((request, response) => {
-    const name = decodeURIComponent(new URL(request.url, "http://x").pathname);
-    const file = path.join(root, name === "/" ? "index.html" : path.normalize(name));
-    if (!file.startsWith(path.resolve(root)) || !fs.existsSync(file)) {
-      response.writeHead(404).end();
-      return;
-    }
-    const type = TYPES[path.extname(file)] ?? "application/octet-stream";
-    response.writeHead(200, { "Content-Type": type });
-    fs.createReadStream(file).pipe(response);
-  });
-  return new Promise((resolve) => server.listen(0, "127.0.0.1", () => resolve(server)));
-}
-
-/** Call an export of the wasm module. */
-function call(page, name, ...args) {
-  return page.evaluate(([name, args]) => wasm_exports[name](...args), [name, args]);
 }
 
 async function particle(page, i) {
@@ -86,33 +57,15 @@ function pixelStats(page, png) {
 }
 
 async function main() {
-  const root = path.resolve(webDir);
-  for (const file of ["index.html", "gl.js", "sprung-viewer.wasm"]) {
-    if (!fs.existsSync(path.join(root, file))) fail(`${root}/${file} is missing: run scripts/build-web.sh`);
-  }
+  const root = checkBuilt(webDir);
   const server = await serve(root);
   const port = server.address().port;
-  const browser = await chromium.launch({
-    executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
-    headless: true,
-    args: [
-      "--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-      "--disable-background-networking", "--disable-component-update", "--disable-sync",
-      "--disable-quic", "--no-first-run",
-    ],
-  });
+  const browser = await launch();
   const problems = [];
   try {
-    const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
-    page.on("pageerror", (error) => problems.push(`page error: ${error.message}`));
-    page.on("console", (message) => {
-      if (message.type() === "error") problems.push(`console error: ${message.text()}`);
-    });
+    const page = await newPage(browser, problems);
     await page.goto(`http://127.0.0.1:${port}/#ball2d`);
-    await page.waitForFunction(
-      () => typeof wasm_exports !== "undefined" && wasm_exports.sprung_frames && wasm_exports.sprung_frames() > 10,
-      null, { timeout: 90_000 },
-    ).catch(() => fail(`no frames within 90 s; ${problems.join("; ") || "no error in the console"}`));
+    await waitForFrames(page, 10, problems);
     const demo = await call(page, "sprung_demo");
     if (demo !== 0) fail(`the page shows demo ${demo}, not ball2d (0)`);
     if (await call(page, "sprung_error")) fail("the page shows an error");

@@ -78,7 +78,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 
 /// The scene file's bytes as text; not UTF-8 is refused with the line
 /// and the byte (in that line) of the first bad byte.
-fn scene_text<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str, SceneError> {
+pub fn scene_text<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str, SceneError> {
     std::str::from_utf8(bytes).map_err(|e| {
         let good = &bytes[..e.valid_up_to()];
         let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
