@@ -1,15 +1,9 @@
-//! The ASC reader and the topology checks on any bytes: `Ok` or an
-//! error, never a panic.
+//! The ASC reader and the closed-surface check on any bytes.
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-use sprung_io::mesh::{closed_surface, parse_mesh, MeshFormat};
+#[path = "common/mesh.rs"]
+mod mesh;
 
-fuzz_target!(|data: &[u8]| {
-    let path = std::path::Path::new("fuzz.asc");
-    if let Ok(meshes) = parse_mesh(data, MeshFormat::Asc, path) {
-        for mesh in &meshes {
-            let _ = closed_surface(mesh, path);
-        }
-    }
-});
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| mesh::check(data, sprung_io::mesh::MeshFormat::Asc, "fuzz.asc"));

@@ -388,11 +388,11 @@ fn a_malformed_frame_is_an_error_naming_its_file_and_line() {
     world.step(1e-3).expect("step");
     let path = write_frame(&frames, 1, &world, FrameFormat::Vtk).expect("frame");
     let text = std::fs::read_to_string(&path).expect("frame");
-    std::fs::write(&path, text.replacen("LINES", "LINES x", 1)).expect("write");
+    std::fs::write(&path, text.replacen("CELLS", "CELLS x", 1)).expect("write");
     let line = text
         .lines()
-        .position(|l| l.starts_with("LINES"))
-        .expect("lines")
+        .position(|l| l.starts_with("CELLS"))
+        .expect("cells")
         + 1;
     let error = read_run(dir.path(), 1).expect_err("malformed");
     let message = error.to_string();

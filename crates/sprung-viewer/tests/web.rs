@@ -69,6 +69,26 @@ fn page() -> PathBuf {
     web
 }
 
+/// Run the browser test `script` with `args` after the built page, within
+/// four minutes; it must succeed (its report is printed).
+fn run_script(script: &str, args: &[&Path]) {
+    let (tests, chromium) = browser_tests();
+    let web = page();
+    let output = run_with_limit(
+        Command::new("node")
+            .arg(tests.join(script))
+            .arg(&web)
+            .args(args)
+            .env("CHROMIUM", &chromium)
+            .current_dir(&tests),
+        Duration::from_secs(240),
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}\n{stdout}");
+    println!("{stdout}");
+}
+
 /// The browser tests' folder and Chromium, checked to be there.
 fn browser_tests() -> (PathBuf, String) {
     let tests = root().join("crates/sprung-viewer/web-tests");
@@ -114,8 +134,6 @@ const BROKEN: &str =
 
 #[test]
 fn a_users_scene_opens_through_the_picker_and_the_address() {
-    let (tests, chromium) = browser_tests();
-    let web = page();
     let scenes = out_dir("web-scenes");
     std::fs::create_dir_all(scenes.join("meshes")).expect("scenes folder");
     std::fs::write(scenes.join("mine.toml"), MINE).expect("scene");
@@ -124,39 +142,13 @@ fn a_users_scene_opens_through_the_picker_and_the_address() {
     // Picked beside the scene, and served where the scene says it is.
     std::fs::write(scenes.join("box.asc"), &cube).expect("mesh");
     std::fs::write(scenes.join("meshes/box.asc"), &cube).expect("mesh");
-    let output = run_with_limit(
-        Command::new("node")
-            .arg(tests.join("scene.mjs"))
-            .arg(&web)
-            .arg(&scenes)
-            .env("CHROMIUM", &chromium)
-            .current_dir(&tests),
-        Duration::from_secs(240),
-    );
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{stderr}\n{stdout}");
-    println!("{stdout}");
+    run_script("scene.mjs", &[&scenes]);
 }
 
 #[test]
 fn dragging_a_particle_in_headless_chromium_moves_it_to_the_cursor() {
-    let (tests, chromium) = browser_tests();
-    let web = page();
     let shot = out_dir("web").join("ball2d.png");
     let _ = std::fs::remove_file(&shot);
-    let output = run_with_limit(
-        Command::new("node")
-            .arg(tests.join("drag.mjs"))
-            .arg(&web)
-            .arg(&shot)
-            .env("CHROMIUM", &chromium)
-            .current_dir(&tests),
-        Duration::from_secs(240),
-    );
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{stderr}\n{stdout}");
-    println!("{stdout}");
+    run_script("drag.mjs", &[&shot]);
     assert_not_blank(&read_png(&shot), &shot);
 }

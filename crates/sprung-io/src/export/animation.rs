@@ -105,11 +105,7 @@ impl Animation {
     /// Record `world`'s current state as the next frame.
     pub fn record(&mut self, world: &World) {
         let position = &world.particles.position;
-        let faces: Vec<[u32; 3]> = world
-            .bodies
-            .iter()
-            .flat_map(|b| b.faces.iter().copied())
-            .collect();
+        let faces = super::all_faces(world);
         let all_normals = vertex_normals(&faces, position);
         for track in &mut self.tracks {
             // Unit normals of a surface's particles.

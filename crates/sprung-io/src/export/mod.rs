@@ -95,6 +95,15 @@ impl std::str::FromStr for OutputFormat {
     }
 }
 
+/// Every body's triangles (world particle indices), in body order.
+pub(crate) fn all_faces(world: &World) -> Vec<[u32; 3]> {
+    world
+        .bodies
+        .iter()
+        .flat_map(|b| b.faces.iter().copied())
+        .collect()
+}
+
 /// The path of frame number `index` in `dir`: `frame_000042.vtk`, numbered
 /// with six digits so the files sort and load as a sequence.
 pub fn frame_path(dir: &Path, index: usize, format: FrameFormat) -> PathBuf {

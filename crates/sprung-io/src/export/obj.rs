@@ -15,11 +15,7 @@ use super::Real;
 /// The world's current state as an OBJ file.
 pub(crate) fn render(world: &World) -> String {
     let position = &world.particles.position;
-    let faces: Vec<[u32; 3]> = world
-        .bodies
-        .iter()
-        .flat_map(|b| b.faces.iter().copied())
-        .collect();
+    let faces = super::all_faces(world);
     let normals = vertex_normals(&faces, position);
     let mut out = String::with_capacity(80 * position.len() + 32 * faces.len() + 64);
     // Writing to a String cannot fail; the results are ignored on purpose.

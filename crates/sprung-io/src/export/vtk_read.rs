@@ -509,7 +509,7 @@ impl<'a> Reader<'a> {
 }
 
 /// The value after `key` in a title like `sprung frame: step 40 time 0.04 s`.
-fn title_value<T: std::str::FromStr>(title: &str, key: &str) -> Option<T> {
+pub(crate) fn title_value<T: std::str::FromStr>(title: &str, key: &str) -> Option<T> {
     let mut words = title.split_whitespace();
     words.find(|w| *w == key)?;
     words.next()?.parse().ok()

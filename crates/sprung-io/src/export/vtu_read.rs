@@ -16,7 +16,7 @@ use base64::Engine;
 use flate2::read::ZlibDecoder;
 use sprung::{Real, Vec3};
 
-use super::vtk_read::{sort_cells, DataArray, VtkFrame, VtkReadError};
+use super::vtk_read::{sort_cells, title_value, DataArray, VtkFrame, VtkReadError};
 
 /// The most bytes one array may decompress to (1 GiB).
 pub const MAX_ARRAY_BYTES: u64 = 1 << 30;
@@ -266,13 +266,6 @@ fn comment_title(text: &str) -> Option<String> {
     let start = text.find("<!--")? + 4;
     let end = start + text[start..].find("-->")?;
     Some(text[start..end].trim().to_string())
-}
-
-/// The value after `key` in a title like `sprung frame: step 40 time 0.04 s`.
-fn title_value<T: std::str::FromStr>(title: &str, key: &str) -> Option<T> {
-    let mut words = title.split_whitespace();
-    words.find(|w| *w == key)?;
-    words.next()?.parse().ok()
 }
 
 /// The offset and attribute text of the first `<name ...>` tag.
