@@ -25,8 +25,9 @@ fn state_error(error: StateFileError) -> CliError {
 }
 
 /// Put the state saved in `path` into `scene`'s world, which must have been
-/// built from the scene the state came from, with the same `dt`.
-pub fn resume(path: &Path, scene: &mut Scene) -> Result<Resumed, CliError> {
+/// built from the scene the state came from, with the same `dt` and
+/// recording every `every` steps as the saved run did.
+pub fn resume(path: &Path, scene: &mut Scene, every: u64) -> Result<Resumed, CliError> {
     let saved = state::read_state(path, &scene.world).map_err(state_error)?;
     let refuse = |source| {
         state_error(StateFileError::Mismatch {
@@ -42,6 +43,13 @@ pub fn resume(path: &Path, scene: &mut Scene) -> Result<Resumed, CliError> {
             scene.dt
         )));
     }
+    let saved_every = saved.get_count("run.every").map_err(refuse)?;
+    if saved_every != every {
+        return Err(CliError::Input(format!(
+            "{}: the state was saved by a run recording every {saved_every} steps, this one records every {every} (give --every {saved_every})",
+            path.display()
+        )));
+    }
     let rows = saved.get_count("run.rows").map_err(refuse)?;
     state::restore(path, &mut scene.world, &saved).map_err(state_error)?;
     Ok(Resumed {
@@ -50,10 +58,11 @@ pub fn resume(path: &Path, scene: &mut Scene) -> Result<Resumed, CliError> {
 }
 
 /// Save `world`'s state after `rows` recorded rows of a run stepping by
-/// `dt` (s) to `path`, atomically.
-pub fn save(path: &Path, world: &World, rows: usize, dt: f64) -> Result<(), CliError> {
+/// `dt` (s) and recording every `every` steps to `path`, atomically.
+pub fn save(path: &Path, world: &World, rows: usize, dt: f64, every: u64) -> Result<(), CliError> {
     let mut saved = world.save_state();
     saved.put("run.dt", vec![dt]);
+    saved.put("run.every", vec![every as f64]);
     saved.put("run.rows", vec![rows as f64]);
     state::write_state(path, world, &saved).map_err(|e| CliError::Io(e.to_string()))
 }

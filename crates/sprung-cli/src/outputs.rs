@@ -28,16 +28,18 @@ pub struct Outputs<'a> {
     pub checkpoints: usize,
     options: &'a RunOptions,
     dt: f64,
+    every: u64,
 }
 
 impl<'a> Outputs<'a> {
-    /// Prepare `out` for a run of `world` stepping by `dt` (s) that will
-    /// record about `records` rows, going on from `resumed` if given:
-    /// refuse what cannot be done before anything is written.
+    /// Prepare `out` for a run of `world` stepping by `dt` (s), recording
+    /// every `every` steps, about `records` rows in all, going on from
+    /// `resumed` if given: refuse what cannot be done before anything is
+    /// written.
     pub fn open(
         out: &Path,
         world: &World,
-        dt: f64,
+        (dt, every): (f64, u64),
         options: &'a RunOptions,
         resumed: Option<Resumed>,
         records: u64,
@@ -89,6 +91,7 @@ impl<'a> Outputs<'a> {
             checkpoints: 0,
             options,
             dt,
+            every,
         })
     }
 
@@ -187,7 +190,7 @@ impl<'a> Outputs<'a> {
 
     fn save(&self, world: &World, rows: usize) -> Result<(), CliError> {
         match &self.options.save_state {
-            Some(path) => checkpoint::save(path, world, rows, self.dt),
+            Some(path) => checkpoint::save(path, world, rows, self.dt, self.every),
             None => Ok(()),
         }
     }

@@ -113,7 +113,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
     }
     let resumed = match &options.resume {
         Some(path) => {
-            let resumed = checkpoint::resume(path, &mut scene)?;
+            let resumed = checkpoint::resume(path, &mut scene, every)?;
             if scene.world.steps() >= steps {
                 return Err(CliError::Input(format!(
                     "{}: the state is at step {}, and this run ends at step {steps} (give a larger --steps or --time)",
@@ -127,7 +127,14 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
     };
     // Rows this run will record, at most (for the animation's budget).
     let records = (steps - scene.world.steps()) / every + 2;
-    let mut outputs = Outputs::open(out, &scene.world, scene.dt, options, resumed, records)?;
+    let mut outputs = Outputs::open(
+        out,
+        &scene.world,
+        (scene.dt, every),
+        options,
+        resumed,
+        records,
+    )?;
     if resumed.is_none() {
         outputs.record(&scene.world)?;
     }

@@ -124,75 +124,85 @@ fn implicit_solvers_resume_exactly() {
     assert_resumes_exactly(&stiff, &["--integrator", "implicit_euler"], 20, 5);
 }
 
-/// A run killed outright (SIGKILL) after a periodic checkpoint leaves the
-/// state and `diagnostics.csv.partial`; resuming goes on from the
-/// checkpoint with the same bytes as a run that never stopped.
+/// Contact between bodies keeps the pairs of its last search for the
+/// steps after (while the margin covers the motion): a resumed run has them
+/// too, so it goes on with the same bits while bodies touch.
 #[test]
-fn a_killed_run_resumes_from_its_last_checkpoint() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    let flag = scene("flag.toml");
-    let output = sprung(
-        &[
-            "run", &flag, "--steps", "40000", "--every", "500", "--format", "vtk", "--quiet",
-            "--out", "whole",
-        ],
-        d,
-    );
-    assert!(output.status.success(), "{}", text(&output.stderr));
+fn touching_bodies_resume_exactly() {
+    // The two balls meet at about step 750 and touch for some 300 steps.
+    assert_resumes_exactly(&scene("collide.toml"), &[], 1200, 830);
+    assert_resumes_exactly(&scene("pile2d.toml"), &[], 600, 370);
+}
+
+/// The flag run of the kill tests: 40,000 steps, a row and a VTK frame
+/// every 500, into `out`, with `extra` options.
+fn flag_run<'a>(flag: &'a str, out: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![
+        "run", flag, "--steps", "40000", "--every", "500", "--format", "vtk", "--quiet", "--out",
+        out,
+    ];
+    args.extend_from_slice(extra);
+    args
+}
+
+/// Start `args` and kill it (SIGKILL) once it has saved a checkpoint newer
+/// than `after` (the state file's modification time, if any).
+fn kill_after_a_checkpoint(d: &Path, args: &[&str], after: Option<std::time::SystemTime>) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_sprung"))
-        .args([
-            "run",
-            &flag,
-            "--steps",
-            "40000",
-            "--every",
-            "500",
-            "--format",
-            "vtk",
-            "--quiet",
-            "--out",
-            "parts",
-            "--save-state",
-            "state.bin",
-            "--checkpoint-every",
-            "1000",
-        ])
+        .args(args)
         .current_dir(d)
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
         .expect("sprung starts");
     let start = Instant::now();
-    while !d.join("state.bin").exists() {
+    let saved = || {
+        std::fs::metadata(d.join("state.bin"))
+            .and_then(|m| m.modified())
+            .ok()
+    };
+    while saved().is_none() || saved() == after {
         assert!(start.elapsed() < Duration::from_secs(60), "no checkpoint");
         std::thread::sleep(Duration::from_millis(5));
     }
     child.kill().expect("kill");
     child.wait().expect("sprung ends");
-    let csv = d.join("parts/diagnostics.csv");
-    assert!(!csv.exists(), "a killed run commits nothing");
-    let output = sprung(
-        &[
-            "run",
-            &flag,
-            "--steps",
-            "40000",
-            "--every",
-            "500",
-            "--format",
-            "vtk",
-            "--quiet",
-            "--out",
-            "parts",
-            "--resume",
-            "state.bin",
-        ],
-        d,
+}
+
+/// A run killed outright (SIGKILL) after a periodic checkpoint leaves the
+/// state and `diagnostics.csv.partial`; resuming goes on from the
+/// checkpoint with the same bytes as a run that never stopped, also when
+/// the resumed run is killed in turn after a checkpoint of its own.
+#[test]
+fn a_killed_run_resumes_from_its_last_checkpoint() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let flag = scene("flag.toml");
+    let output = sprung(&flag_run(&flag, "whole", &[]), d);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let checkpoints = ["--save-state", "state.bin", "--checkpoint-every", "1000"];
+    kill_after_a_checkpoint(d, &flag_run(&flag, "parts", &checkpoints), None);
+    assert!(
+        !d.join("parts/diagnostics.csv").exists(),
+        "a killed run commits nothing"
     );
+    let first = std::fs::metadata(d.join("state.bin"))
+        .and_then(|m| m.modified())
+        .ok();
+    let resume = [
+        "--resume",
+        "state.bin",
+        "--save-state",
+        "state.bin",
+        "--checkpoint-every",
+        "1000",
+    ];
+    kill_after_a_checkpoint(d, &flag_run(&flag, "parts", &resume), first);
+    let output = sprung(&flag_run(&flag, "parts", &["--resume", "state.bin"]), d);
     assert!(output.status.success(), "{}", text(&output.stderr));
     assert_same_outputs(&d.join("whole"), &d.join("parts"));
     common::assert_no_partial_files(d);
+    assert!(!d.join("parts/diagnostics.csv.previous").exists());
 }
 
 /// SIGINT with `--save-state` saves the state at the step it stopped at; the
@@ -303,6 +313,24 @@ fn bad_states_are_refused() {
         ],
         "another scene",
     );
+    // Another recording cadence would mix rows of two cadences.
+    refused(
+        &[
+            &base[..2],
+            &[
+                "--steps",
+                "80",
+                "--every",
+                "20",
+                "--out",
+                "out",
+                "--resume",
+                "state.bin",
+            ],
+        ]
+        .concat(),
+        "recording every 10 steps, this one records every 20",
+    );
     // Another integrator's history is not used: it starts afresh (allowed).
     // A state at the end of the run has nothing left to do.
     refused(
@@ -316,6 +344,8 @@ fn bad_states_are_refused() {
             &[
                 "--steps",
                 "80",
+                "--every",
+                "10",
                 "--out",
                 "elsewhere",
                 "--resume",

@@ -173,3 +173,41 @@ fn an_animation_too_large_is_refused_before_the_run() {
     assert!(stderr.contains("GB an animation may gather"), "{stderr}");
     assert!(!Path::new(&dir.path().join("o/diagnostics.csv")).exists());
 }
+
+/// A body held by rigid rods only (the pendulum) is drawn along its rods,
+/// and one of loose particles as points.
+#[test]
+fn rods_are_lines_and_loose_particles_points() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    write(
+        d,
+        "s.toml",
+        "[sim]\ndt = 1e-3\nsteps = 20\nevery = 10\n\n[[body]]\nname = \"pendulum\"\n\
+         particles = [[0, 0, 0], [1, 0, 0], [2, 0, 0]]\nrods = [[0, 1], [1, 2]]\nmass = 1.0\npinned = [0]\n\n\
+         [[body]]\nname = \"dust\"\nparticles = [[0, 3, 0], [1, 3, 0], [2, 3, 0]]\nmass = 0.1\n",
+    );
+    let output = sprung(
+        &["run", "s.toml", "--format", "gltf", "--out", "o", "--quiet"],
+        d,
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let bytes = std::fs::read(d.join("o/animation.glb")).expect("animation.glb");
+    let gltf = gltf::Gltf::from_slice(&bytes).expect("reads");
+    let blob = gltf.blob.as_deref().expect("one buffer");
+    let modes: Vec<(gltf::mesh::Mode, usize)> = gltf
+        .meshes()
+        .map(|m| {
+            let p = m.primitives().next().expect("a primitive");
+            let indices = p
+                .reader(|_| Some(blob))
+                .read_indices()
+                .map_or(0, |i| i.into_u32().count());
+            (p.mode(), indices)
+        })
+        .collect();
+    assert_eq!(
+        modes,
+        vec![(gltf::mesh::Mode::Lines, 4), (gltf::mesh::Mode::Points, 0)]
+    );
+}

@@ -357,3 +357,38 @@ fn damaged_vtu_frames_are_errors() {
         }
     }
 }
+
+/// Hostile `.vtu` arrays found by review: a short block header, a last
+/// block larger than the blocks, counts whose product overflows, no points.
+#[test]
+fn hostile_vtu_headers_are_errors_not_panics() {
+    let text = frame_in(&world(), FrameFormat::Vtu);
+    let start = text.find("format=\"binary\">\n").expect("an array") + "format=\"binary\">\n".len();
+    let end = start + text[start..].find('\n').expect("its line");
+    let replace = |with: &str| format!("{}{with}{}", &text[..start], &text[end..]);
+    use base64::Engine as _;
+    let encode = |numbers: &[u64]| {
+        let bytes: Vec<u8> = numbers.iter().flat_map(|n| n.to_le_bytes()).collect();
+        base64::engine::general_purpose::STANDARD.encode(bytes)
+    };
+    for bad in [
+        "AAAAAAAAAAAAAA==".to_string(),
+        encode(&[1, 1, 1 << 62]),
+        encode(&[u64::MAX, 1, 0]),
+        format!("{}{}", encode(&[1, 8, 0]), "AAAA"),
+    ] {
+        let result = read_vtk_frame(&replace(&bad), Path::new("h.vtu"));
+        assert!(result.is_err(), "{bad}");
+    }
+    let overflow = text.replacen(
+        "NumberOfPoints=\"17\"",
+        "NumberOfPoints=\"9223372036854775809\"",
+        1,
+    );
+    assert!(read_vtk_frame(&overflow, Path::new("o.vtu")).is_err());
+    let points_start = text.find("<Points>").expect("points");
+    let points_end = text.find("</Points>").expect("points") + "</Points>".len();
+    let no_points = format!("{}{}", &text[..points_start], &text[points_end..]);
+    let error = read_vtk_frame(&no_points, Path::new("n.vtu")).expect_err("no points");
+    assert!(error.to_string().contains("declares 17 points"), "{error}");
+}

@@ -198,11 +198,14 @@ pub extern "C" fn sprung_staging(len: u32) -> *mut u8 {
     staging.buffer.as_mut_ptr()
 }
 
-/// The staging buffer as a name of `name_len` bytes and the file after it.
-fn staged(buffer: &[u8], name_len: u32) -> Option<(String, Vec<u8>)> {
-    let cut = (name_len as usize).min(buffer.len());
-    let name = std::str::from_utf8(&buffer[..cut]).ok()?;
-    Some((name.to_string(), buffer[cut..].to_vec()))
+/// The staging buffer, taken (so its memory goes with the file), as a name
+/// of `name_len` bytes and the file after it.
+fn staged(buffer: &mut Vec<u8>, name_len: u32) -> Option<(String, Vec<u8>)> {
+    let mut bytes = std::mem::take(buffer);
+    let cut = (name_len as usize).min(bytes.len());
+    let file = bytes.split_off(cut);
+    let name = String::from_utf8(bytes).ok()?;
+    Some((name, file))
 }
 
 /// Keep the staged file (a mesh) for the next scene; 1 if its name is
@@ -210,7 +213,7 @@ fn staged(buffer: &[u8], name_len: u32) -> Option<(String, Vec<u8>)> {
 #[no_mangle]
 pub extern "C" fn sprung_stage_file(name_len: u32) -> i32 {
     let mut staging = staging();
-    match staged(&staging.buffer, name_len) {
+    match staged(&mut staging.buffer, name_len) {
         Some(file) => {
             staging.files.push(file);
             1
@@ -225,7 +228,7 @@ pub extern "C" fn sprung_stage_file(name_len: u32) -> i32 {
 pub extern "C" fn sprung_open_staged_scene(name_len: u32) -> i32 {
     let mut staging = staging();
     let files = std::mem::take(&mut staging.files);
-    match staged(&staging.buffer, name_len) {
+    match staged(&mut staging.buffer, name_len) {
         Some((name, text)) => {
             lock().scene_request = Some(Upload { name, text, files });
             1

@@ -98,6 +98,17 @@ impl WorldState {
         Ok(values)
     }
 
+    /// The entry `name`, of any length, all finite numbers.
+    pub fn get_any(&self, name: &str) -> Result<&[Real], StateError> {
+        let values = self
+            .entries
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+            .ok_or_else(|| StateError::Missing(name.to_string()))?;
+        self.get(name, values.len())
+    }
+
     /// The entry `name` as `count` vectors.
     pub fn get_vectors(&self, name: &str, count: usize) -> Result<Vec<Vec3>, StateError> {
         Ok(self

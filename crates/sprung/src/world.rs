@@ -700,6 +700,7 @@ impl World {
         );
         state.integrator = self.integrator.kind().name().to_string();
         self.integrator.save_history(&mut state);
+        self.contacts.save_state(&mut state);
         state
     }
 
@@ -737,7 +738,10 @@ impl World {
             Ok((count(0)?, (first > 0).then_some((first, values[2]))))
         };
         let (solver, rods) = (stats("solver_stats")?, stats("constraint_stats")?);
+        let mut contacts = self.contacts.clone();
+        contacts.restore_state(state, &self.bodies, n)?;
         self.integrator = integrator;
+        self.contacts = contacts;
         self.steps = steps;
         (self.time, self.time_compensation) = (time[0], time[1]);
         self.particles.position = position;

@@ -3,7 +3,8 @@
 //! `<model-viewer>`) show.
 //!
 //! Each body is a node with one mesh: a surface as triangles with smooth
-//! normals, a rope, lattice or 2D body as lines along its springs. The
+//! normals, a rope, lattice or 2D body as lines along its springs and
+//! rods, a body of loose particles as points. The
 //! first recorded frame is the mesh; every later frame `k` is a morph
 //! target (its positions, and for surfaces its normals, less the first
 //! frame's), named `frame_00000k` (`extras.targetNames`, Blender's shape
@@ -63,10 +64,17 @@ impl Animation {
             .map(|body| {
                 let start = body.particles.start as u32;
                 let triangles = body.faces.iter().flatten().map(|&i| i - start).collect();
+                // Springs and rigid rods, as pairs of line ends.
+                let rods = &world.rods;
                 let lines = if body.faces.is_empty() {
                     body.springs
                         .clone()
                         .flat_map(|s| springs.endpoints(s))
+                        .chain(
+                            body.rods
+                                .clone()
+                                .flat_map(|r| [rods.first[r], rods.second[r]]),
+                        )
                         .map(|i| i - start)
                         .collect()
                 } else {
@@ -149,7 +157,16 @@ impl Animation {
     pub fn to_glb(&self) -> Result<Vec<u8>, String> {
         let mut file = Builder::default();
         let frames = self.times.len();
-        let times: Vec<f32> = self.times.iter().map(|&t| t as f32).collect();
+        // Single precision, kept strictly increasing (as glTF asks of an
+        // animation's times) where two rows' times round to the same float.
+        let mut times: Vec<f32> = Vec::with_capacity(self.times.len());
+        for &t in &self.times {
+            let t = t as f32;
+            times.push(match times.last() {
+                Some(&before) if t <= before => before.next_up(),
+                _ => t,
+            });
+        }
         let input = file.floats(&times, 1, json::accessor::Type::Scalar, None, true);
         let mut nodes = Vec::new();
         let mut animation = json::Animation {
@@ -199,7 +216,13 @@ impl Animation {
                     file.root
                         .push(material("springs", [0.25, 0.25, 0.3, 1.0], false))
                 });
-                (&track.lines, json::mesh::Mode::Lines, material)
+                // A body of loose particles (no springs, no rods): points.
+                let mode = if track.lines.is_empty() {
+                    json::mesh::Mode::Points
+                } else {
+                    json::mesh::Mode::Lines
+                };
+                (&track.lines, mode, material)
             };
             let indices = (!indices.is_empty()).then(|| file.indices(indices));
             let names: Vec<String> = (1..frames).map(|k| format!("\"frame_{k:06}\"")).collect();

@@ -36,11 +36,11 @@ impl Diagnostics {
     }
 
     /// Go on with the table of a run that stopped after `rows` rows: the
-    /// header and the first `rows` rows of `path` (or of the
-    /// `path.partial` a killed run left) are kept, later rows dropped, and
-    /// new rows follow. Refused when the file has other columns or fewer
-    /// rows. Returns `None` when there is neither file, and nothing is
-    /// written then.
+    /// header and the first `rows` rows of the newest table there is (the
+    /// `path.partial` a killed run left, else `path`) are kept, later rows
+    /// dropped, and new rows follow. Refused when that table has other
+    /// columns or fewer rows, and it is then left as it was. Returns `None`
+    /// when there is no table, and nothing is written then.
     pub fn resume(
         path: &Path,
         world: &World,
@@ -51,18 +51,41 @@ impl Diagnostics {
             "{}.partial",
             path.file_name().unwrap_or_default().to_string_lossy()
         ));
-        // A killed run's rows are moved aside first: the new table is
-        // written under the `.partial` name.
+        // The new table is written under the `.partial` name: a killed
+        // run's rows are moved aside first (where a resume killed while
+        // copying may also have left them).
         let previous = partial.with_extension("previous");
-        let source = if path.is_file() {
-            path.to_path_buf()
-        } else if partial.is_file() {
+        if partial.is_file() {
             std::fs::rename(&partial, &previous)?;
+        }
+        let source = if previous.is_file() {
             previous.clone()
+        } else if path.is_file() {
+            path.to_path_buf()
         } else {
             return Ok(None);
         };
-        let mut lines = BufReader::new(File::open(&source)?).lines();
+        let copied = Self::copy_rows(&source, path, world, probes, rows);
+        if source == previous {
+            match &copied {
+                // The rows are safely in the new table before the old goes.
+                Ok(_) => std::fs::remove_file(&previous)?,
+                Err(_) => std::fs::rename(&previous, &partial)?,
+            }
+        }
+        copied.map(Some)
+    }
+
+    /// A new table at `path` with the header and the first `rows` rows of
+    /// `source`, written through to the disk.
+    fn copy_rows(
+        source: &Path,
+        path: &Path,
+        world: &World,
+        probes: &[usize],
+        rows: usize,
+    ) -> io::Result<Self> {
+        let mut lines = BufReader::new(File::open(source)?).lines();
         let refuse = |what: String| {
             io::Error::new(
                 io::ErrorKind::InvalidData,
@@ -91,11 +114,8 @@ impl Diagnostics {
             let time = line.split(',').nth(1).and_then(|t| t.parse().ok());
             diagnostics.times.push(time.unwrap_or(f64::NAN));
         }
-        drop(lines);
-        if source == previous {
-            std::fs::remove_file(&previous)?;
-        }
-        Ok(Some(diagnostics))
+        diagnostics.flush()?;
+        Ok(diagnostics)
     }
 
     /// Append a row for the world's current state: `contacts` counts the

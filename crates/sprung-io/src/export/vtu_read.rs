@@ -139,7 +139,7 @@ pub(crate) fn read_vtu(text: &str, file: &Path) -> Result<VtkFrame, VtkReadError
             .values(&element)
             .map_err(|m| error_at(file, element.line, format!("{name}: {m}")))?;
         let expect = |tuples: usize| -> Result<(), VtkReadError> {
-            if values.len() == tuples * components {
+            if tuples.checked_mul(components) == Some(values.len()) {
                 Ok(())
             } else {
                 Err(error_at(
@@ -200,6 +200,15 @@ pub(crate) fn read_vtu(text: &str, file: &Path) -> Result<VtkFrame, VtkReadError
                     .insert(name, DataArray { components, values });
             }
         }
+    }
+    if frame.points.len() != points {
+        return Err(error(
+            piece.0,
+            format!(
+                "<Piece> declares {points} points, its <Points> has {}",
+                frame.points.len()
+            ),
+        ));
     }
     let (Some(connectivity), Some(offsets), Some(types)) = (connectivity, offsets, types) else {
         return Err(error_at(
@@ -394,10 +403,21 @@ impl Decoder {
                 ))
             };
         }
+        // The header's numbers, exactly `count` of them.
+        let header_of = |encoded: &str, count: usize| -> Result<Vec<u64>, String> {
+            let bytes = base64(encoded)?;
+            if bytes.len() != count * size {
+                return Err("a block header of the wrong length".into());
+            }
+            Ok(self.read_header(&bytes))
+        };
         let first = text.get(..encoded_len(3 * size)).ok_or("cut short")?;
-        let start = self.read_header(&base64(first)?);
+        let start = header_of(first, 3)?;
         let blocks = usize::try_from(start[0]).map_err(|_| "too many blocks")?;
         let (block, last) = (start[1], start[2]);
+        if last > block {
+            return Err(format!("a last block of {last} bytes in blocks of {block}"));
+        }
         let total = (blocks as u64)
             .saturating_mul(block)
             .min(MAX_ARRAY_BYTES + 1);
@@ -407,7 +427,7 @@ impl Decoder {
         let header_text = text
             .get(..encoded_len((3 + blocks) * size))
             .ok_or("cut short")?;
-        let header = self.read_header(&base64(header_text)?);
+        let header = header_of(header_text, 3 + blocks)?;
         let data = base64(&text[header_text.len()..])?;
         let mut out = Vec::new();
         let mut at = 0usize;

@@ -211,8 +211,17 @@ fn read_array<I: Iterator<Item = Token>>(
         if let Some(range) = number.take() {
             reader.number(&text[range], depth);
         }
+        let raw = &text[span.start()..span.end()];
         match kind {
-            TokenKind::Whitespace | TokenKind::Newline | TokenKind::Comment => {}
+            // What TOML allows between values (anything else, a bare CR or
+            // a control character in a comment, is left to the parser,
+            // which refuses it).
+            TokenKind::Whitespace if raw.bytes().all(|b| b == b' ' || b == b'\t') => {}
+            TokenKind::Newline if raw == "\n" || raw == "\r\n" => {}
+            TokenKind::Comment
+                if raw
+                    .chars()
+                    .all(|c| c == '\t' || !(c.is_control() || c == '\u{7f}')) => {}
             TokenKind::Comma => reader.comma(),
             TokenKind::LeftSquareBracket => {
                 reader.start_value();

@@ -141,7 +141,7 @@ pub fn parse_scene_with(
     world.settings.solver =
         solver_settings(sim, integrator).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
     let scene_dir = path.parent().unwrap_or(Path::new("."));
-    if let (Some(_), Some(section)) = (file.body.first(), sections.bodies.first()) {
+    if let (Some(_), Some(section)) = (&file.body, sections.bodies.first()) {
         let message = "`body` is given both as a value and as `[[body]]` tables".to_string();
         return Err(at(section.clone(), "body", message));
     }
@@ -161,7 +161,7 @@ pub fn parse_scene_with(
         bodies.push((span, body.name, body.wind_scale, body.gravitating));
         Ok(())
     };
-    for table in file.body {
+    for table in file.body.unwrap_or_default() {
         add(&mut world, table)?;
     }
     for section in &sections.bodies {
@@ -621,6 +621,7 @@ mod tests {
         let path = Path::new("t.toml");
         for section in &sections.bodies {
             file.body
+                .get_or_insert_with(Vec::new)
                 .extend(body_section(text, section.clone(), path).ok()?);
         }
         Some(format!("{file:?}"))
@@ -648,6 +649,10 @@ mod tests {
             "[sim]\ndt = 1e-3\n[[body]]\nname = \"a\"\nparticles = [[0x10, 1_0, 0]]\nsprings = [[0, +1]]\nrods = [[0, 1, 2]]\n",
             "[sim]\ndt = 1e-3\n[[body]]\nname = \"a\"\nparticles = [\n  [0, 0, 0],\n  [1, 0, 0]\n] # end\nvelocities = [[1, 2, 3], [4, 5, 6]] mass = 1\n",
             "[body]\nname = \"a\"\n[[body]]\nname = \"b\"\n[sim]\ndt = 1\n",
+            "[sim]\ndt = 1e-3\nbody = []\n[[body]]\nname = \"b\"\n",
+            "[sim]\ndt = 1e-3\n[[body]]\nname = \"a\"\nparticles = [[0, 0, 0],\r[1, 0, 0]]\n",
+            "[sim]\ndt = 1e-3\n[[body]]\nname = \"a\"\nmasses = [1, # \u{7f}\n 2]\nparticles = [[0, 0, 0], [1, 0, 0]]\n",
+            "[sim]\ndt = 1e-3\n[[\"bod\\u0079\"]]\nname = \"a\"\n[[body]]\nname = \"b\"\n",
             "[sim]\ndt = 1e-3\n[[body]]\nname = \"a\"\nnote = '''\n[[body]]\nname = \"fake\"\n'''\n",
         ];
         let mut texts: Vec<String> = tricky.iter().map(|t| t.to_string()).collect();

@@ -99,6 +99,11 @@ impl Sections {
                 TokenKind::RightSquareBracket if depth == 0 => {
                     if let Some((start, array, key_start)) = header.take() {
                         let key = text.get(key_start..span.start()).unwrap_or_default();
+                        // An escape in a quoted key (`"bod\u0079"`) is
+                        // beyond this splitting: the file is parsed whole.
+                        if key.contains('\\') {
+                            return Sections { bodies: Vec::new() };
+                        }
                         match classify(key, array) {
                             Header::Body => {
                                 close(&mut open, start);

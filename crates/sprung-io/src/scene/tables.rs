@@ -10,8 +10,11 @@ use toml::Spanned;
 #[serde(deny_unknown_fields)]
 pub(crate) struct SceneFile {
     pub sim: Spanned<SimTable>,
+    /// Bodies given in the rest of the file (an inline `body = [...]`, or
+    /// every `[[body]]` of a file read whole); `Some` even when empty, so a
+    /// `body` key beside `[[body]]` sections is seen.
     #[serde(default)]
-    pub body: Vec<Spanned<BodyTable>>,
+    pub body: Option<Vec<Spanned<BodyTable>>>,
     #[serde(default)]
     pub collider: Vec<Spanned<ColliderTable>>,
     #[serde(default)]

@@ -106,8 +106,17 @@ impl Scratch {
         2.0 * moved + closing <= self.searched_margin
     }
 
+    /// The margin (m) and the positions (m) of the last search, if any.
+    pub(super) fn last_search(&self) -> (Option<Real>, &[Vec3]) {
+        let searched = self.searched_settings.is_some() && !self.searched_at.is_empty();
+        (
+            searched.then_some(self.searched_margin),
+            if searched { &self.searched_at } else { &[] },
+        )
+    }
+
     /// Remember a search from `position` (m) with `margin` (m).
-    fn searched(
+    pub(super) fn searched(
         &mut self,
         bodies: &[Body],
         position: &[Vec3],

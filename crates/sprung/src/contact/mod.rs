@@ -48,6 +48,7 @@ mod detect;
 mod force;
 mod friction;
 mod pairs;
+mod state;
 
 pub use force::BodyContacts;
 pub use pairs::{ContactPairs, EdgeEdge, PointPoint, PointSegment, PointTriangle};
