@@ -73,14 +73,18 @@ impl WorldState {
         self.put(name, vectors.iter().flat_map(|v| v.to_array()).collect());
     }
 
-    /// The entry `name`, which must hold `expected` finite numbers.
-    pub fn get(&self, name: &str, expected: usize) -> Result<&[Real], StateError> {
-        let values = self
-            .entries
+    /// The numbers under `name`, as they are.
+    fn entry(&self, name: &str) -> Result<&[Real], StateError> {
+        self.entries
             .iter()
             .find(|(n, _)| n == name)
             .map(|(_, v)| v.as_slice())
-            .ok_or_else(|| StateError::Missing(name.to_string()))?;
+            .ok_or_else(|| StateError::Missing(name.to_string()))
+    }
+
+    /// The entry `name`, which must hold `expected` finite numbers.
+    pub fn get(&self, name: &str, expected: usize) -> Result<&[Real], StateError> {
+        let values = self.entry(name)?;
         if values.len() != expected {
             return Err(StateError::Length {
                 name: name.to_string(),
@@ -100,13 +104,7 @@ impl WorldState {
 
     /// The entry `name`, of any length, all finite numbers.
     pub fn get_any(&self, name: &str) -> Result<&[Real], StateError> {
-        let values = self
-            .entries
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_slice())
-            .ok_or_else(|| StateError::Missing(name.to_string()))?;
-        self.get(name, values.len())
+        self.get(name, self.entry(name)?.len())
     }
 
     /// The entry `name` as `count` vectors.

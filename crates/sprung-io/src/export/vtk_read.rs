@@ -94,10 +94,11 @@ pub struct VtkReadError {
 /// points, lines or polygons, and malformed content are refused with the
 /// file and line.
 pub fn read_vtk_frame(text: &str, file: &Path) -> Result<VtkFrame, VtkReadError> {
-    if text.trim_start().starts_with('<') {
-        return super::vtu_read::read_vtu(text, file);
-    }
-    let mut frame = Reader::new(text, file).read()?;
+    let mut frame = if text.trim_start().starts_with('<') {
+        super::vtu_read::read_vtu(text, file)?
+    } else {
+        Reader::new(text, file).read()?
+    };
     if frame.time.is_none() {
         frame.time = frame
             .field_data

@@ -248,12 +248,6 @@ pub(crate) fn read_vtu(text: &str, file: &Path) -> Result<VtkFrame, VtkReadError
         .map(|&t| index(t).map_or(0, |t| t.min(255) as u8))
         .collect();
     sort_cells(&mut frame, list, &types, file, cells_line)?;
-    if frame.time.is_none() {
-        frame.time = frame
-            .field_data
-            .get("TIME")
-            .and_then(|a| a.values.first().copied());
-    }
     Ok(frame)
 }
 
