@@ -62,7 +62,7 @@ pub fn run(name: Option<&str>, options: &RunOptions) -> Result<(), CliError> {
     }
     if !options.quiet {
         println!(
-            "demo \"{}\" ({}): results in {} (diagnostics.csv; frames/ opens in ParaView)",
+            "demo \"{}\" ({}): results in {} (diagnostics.csv; open frames/frames.pvd in ParaView)",
             demo.name,
             demo.about,
             out.display()
