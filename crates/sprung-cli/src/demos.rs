@@ -61,8 +61,16 @@ pub fn run(name: Option<&str>, options: &RunOptions) -> Result<(), CliError> {
         run_scene(scene, &folder, &options)?;
     }
     if !options.quiet {
+        let frames = match options.format {
+            Some(OutputFormat::Frames(FrameFormat::Vtu)) => "open frames/frames.pvd in ParaView",
+            Some(OutputFormat::Frames(FrameFormat::Vtk)) => {
+                "open frames/frames.vtk.series in ParaView"
+            }
+            Some(OutputFormat::Frames(FrameFormat::Obj)) => "frames/ for Blender",
+            _ => "animation.glb for Blender",
+        };
         println!(
-            "demo \"{}\" ({}): results in {} (diagnostics.csv; open frames/frames.pvd in ParaView)",
+            "demo \"{}\" ({}): results in {} (diagnostics.csv; {frames})",
             demo.name,
             demo.about,
             out.display()
