@@ -13,7 +13,6 @@ mod common;
 use common::mesh_path;
 use common::mutate::{mutate, XorShift};
 
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
 use sprung_io::mesh::{
@@ -24,7 +23,7 @@ use sprung_io::mesh::{
 /// Runs the readers and the topology functions on `bytes`; `Err` carries
 /// the panic message if anything panicked.
 fn exercise(bytes: &[u8], format: MeshFormat, path: &Path) -> Result<bool, String> {
-    catch_unwind(AssertUnwindSafe(|| {
+    common::without_panic(|| {
         let Ok(meshes) = parse_mesh(bytes, format, path) else {
             return false;
         };
@@ -39,13 +38,6 @@ fn exercise(bytes: &[u8], format: MeshFormat, path: &Path) -> Result<bool, Strin
         let _ = select_object(meshes.clone(), first.as_deref(), path);
         let _ = select_object(meshes, None, path);
         true
-    }))
-    .map_err(|panic| {
-        panic
-            .downcast_ref::<String>()
-            .cloned()
-            .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_owned()))
-            .unwrap_or_default()
     })
 }
 

@@ -5,8 +5,6 @@
 
 mod common;
 
-use std::panic::{catch_unwind, AssertUnwindSafe};
-
 use common::mutate::{mutate, XorShift};
 use sprung_io::demos::{Bundled, DEMOS};
 use sprung_io::scene::parse_scene_with;
@@ -14,7 +12,7 @@ use sprung_io::scene::parse_scene_with;
 /// Parse `bytes` as the demo's scene and, if it loads and is small, step
 /// it twice; `Err` carries the panic message if anything panicked.
 fn exercise(bytes: &[u8], demo: &sprung_io::demos::Demo) -> Result<bool, String> {
-    catch_unwind(AssertUnwindSafe(|| {
+    common::without_panic(|| {
         let Ok(text) = std::str::from_utf8(bytes) else {
             return false;
         };
@@ -30,13 +28,6 @@ fn exercise(bytes: &[u8], demo: &sprung_io::demos::Demo) -> Result<bool, String>
             }
         }
         true
-    }))
-    .map_err(|panic| {
-        panic
-            .downcast_ref::<String>()
-            .cloned()
-            .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_owned()))
-            .unwrap_or_default()
     })
 }
 

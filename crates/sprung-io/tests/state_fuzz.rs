@@ -7,8 +7,6 @@
 
 mod common;
 
-use std::panic::{catch_unwind, AssertUnwindSafe};
-
 use common::mutate::XorShift;
 use sprung::{build, IntegratorKind, World};
 use sprung_io::state::{read_state, write_state};
@@ -70,11 +68,11 @@ fn damaged_state_files_are_refused_without_a_panic() {
             bytes[body..].copy_from_slice(&sum.to_le_bytes());
         }
         std::fs::write(&path, &bytes).unwrap();
-        let outcome = catch_unwind(AssertUnwindSafe(|| {
+        let outcome = common::without_panic(|| {
             read_state(&path, &world).map(|state| world.restore_state(&state).is_ok())
-        }));
+        });
         match outcome {
-            Err(_) => panic!("case {case}: the reader panicked"),
+            Err(message) => panic!("case {case}: the reader panicked: {message}"),
             Ok(Ok(_)) => {
                 assert!(rechecked, "case {case}: a damaged file passed its checksum");
                 parsed += 1;

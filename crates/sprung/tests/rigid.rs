@@ -82,9 +82,7 @@ fn a_spinning_rigid_body_keeps_its_shape_and_angular_momentum() {
         IntegratorKind::Rk4,
         IntegratorKind::Verlet,
     ] {
-        let mut world = World::new(kind);
-        world.set_gravity(Vec3::ZERO);
-        world.add_body("brick", body.clone()).unwrap();
+        let mut world = common::weightless(kind, "brick", body.clone());
         let rest: Vec<Vec3> = world.particles.position.clone();
         let momentum = angular_momentum(&world);
         for _ in 0..2000 {

@@ -141,9 +141,7 @@ fn rods_do_no_work_and_keep_the_momentum_of_a_free_chain() {
         IntegratorKind::Rk4,
         IntegratorKind::Verlet,
     ] {
-        let mut world = World::new(kind);
-        world.set_gravity(Vec3::ZERO);
-        world.add_body("chain", body.clone()).unwrap();
+        let mut world = common::weightless(kind, "chain", body.clone());
         let momentum = sprung::measure::linear_momentum(&world.particles);
         let start = world.energies().kinetic;
         let mut energy = start;

@@ -21,3 +21,15 @@ pub fn mesh_path(name: &str) -> PathBuf {
         .cloned()
         .unwrap_or_else(|| candidates[0].clone())
 }
+
+/// Run `f`, giving its panic's message as an error (a fuzz test's way to
+/// name what panicked and carry on to report the input).
+pub fn without_panic<T>(f: impl FnOnce() -> T) -> Result<T, String> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|panic| {
+        panic
+            .downcast_ref::<String>()
+            .cloned()
+            .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_owned()))
+            .unwrap_or_default()
+    })
+}

@@ -257,3 +257,11 @@ pub fn assert_penalty_rest(
 pub fn deepest_inside_another(world: &World) -> Real {
     sprung::contact::inside::deepest_interpenetration(&world.bodies, &world.particles.position)
 }
+
+/// A world without gravity stepped by `kind`, holding `body` as `name`.
+pub fn weightless(kind: IntegratorKind, name: &str, body: BodyData) -> World {
+    let mut world = World::new(kind);
+    world.set_gravity(Vec3::ZERO);
+    world.add_body(name, body).expect("a valid body");
+    world
+}
