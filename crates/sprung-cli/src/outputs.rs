@@ -25,7 +25,7 @@ pub struct Outputs<'a> {
     /// Frames written by this process.
     frames: usize,
     /// States saved at checkpoints.
-    pub checkpoints: usize,
+    checkpoints: usize,
     options: &'a RunOptions,
     dt: f64,
     every: u64,

@@ -102,16 +102,16 @@ impl Frame {
         }
         let mean_strain = |corners: &[u32]| {
             let n = corners.len();
-            let strains: Vec<Real> = (0..n)
+            let (sum, count) = (0..n)
                 .filter_map(|k| {
                     let (a, b) = (corners[k], corners[(k + 1) % n]);
-                    edge_strain.get(&(a.min(b), a.max(b))).copied()
+                    edge_strain.get(&(a.min(b), a.max(b)))
                 })
-                .collect();
-            if strains.is_empty() {
+                .fold((0.0, 0), |(sum, count), &s| (sum + s, count + 1));
+            if count == 0 {
                 0.0
             } else {
-                strains.iter().sum::<Real>() / strains.len() as Real
+                sum / Real::from(count)
             }
         };
         for body in &world.bodies {

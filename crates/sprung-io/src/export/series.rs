@@ -60,20 +60,18 @@ pub fn write_series(
         }
         let _ = writeln!(out, "</Collection>\n</VTKFile>");
     } else {
-        let _ = writeln!(out, "{{\n  \"file-series-version\": \"1.0\",");
-        let names: Vec<String> = bodies.iter().map(|b| json_string(b)).collect();
-        let _ = writeln!(out, "  \"bodies\": [{}],", names.join(", "));
-        let _ = writeln!(out, "  \"files\": [");
-        for (index, &time) in times.iter().enumerate() {
-            let comma = if index + 1 < times.len() { "," } else { "" };
-            let _ = writeln!(
-                out,
-                "    {{ \"name\": \"{}\", \"time\": {} }}{comma}",
-                name(index),
-                Real(time)
-            );
-        }
-        let _ = writeln!(out, "  ]\n}}");
+        let files: Vec<serde_json::Value> = times
+            .iter()
+            .enumerate()
+            .map(|(index, &time)| serde_json::json!({ "name": name(index), "time": time }))
+            .collect();
+        let series = serde_json::json!({
+            "file-series-version": "1.0",
+            "bodies": bodies,
+            "files": files,
+        });
+        out = serde_json::to_string_pretty(&series).map_err(io::Error::other)?;
+        out.push('\n');
     }
     AtomicFile::write(&path, out.as_bytes())
 }
@@ -81,21 +79,4 @@ pub fn write_series(
 /// `text` safe inside an XML comment (no `--`).
 fn xml_comment(text: &str) -> String {
     text.replace("--", "- -")
-}
-
-/// `text` as a JSON string.
-fn json_string(text: &str) -> String {
-    let mut out = String::from("\"");
-    for c in text.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            c if (c as u32) < 0x20 => {
-                let _ = write!(out, "\\u{:04x}", c as u32);
-            }
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
 }
