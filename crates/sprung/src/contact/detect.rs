@@ -2,12 +2,12 @@
 
 use super::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
 use super::grid::Grid;
-use super::{
-    ContactPairs, ContactSettings, Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle,
-};
+use super::{ContactSettings, Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
 use crate::body::{Body, BodyContact};
+use crate::parallel;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
+use rayon::prelude::*;
 
 /// Marks a particle of no colliding body.
 const NONE: u32 = u32::MAX;
@@ -29,6 +29,8 @@ pub(super) struct Scratch {
     /// Particles that may touch another body (or their own): those that
     /// look for elements.
     querying: Vec<u32>,
+    /// What the gathering found, per chunk of bodies, with the body.
+    gathered: Vec<Vec<(Gathered, u32)>>,
     /// Per body, its bounding box grown by half the reach (colliding
     /// bodies only).
     body_box: Vec<(Vec3, Vec3)>,
@@ -36,10 +38,10 @@ pub(super) struct Scratch {
     /// `near[near_start[b]..near_start[b + 1]]`.
     near_start: Vec<u32>,
     near: Vec<u32>,
-    /// The grown bounding box of each element of the current grid.
+    /// The grown bounding box of each element being searched.
     boxes: Vec<(Vec3, Vec3)>,
-    /// Per element, the last query that visited it (plus one).
-    seen: Vec<u32>,
+    /// Per particle, where its pairs start while they are put in order.
+    run_start: Vec<u32>,
     /// Positions at the last search (empty before any).
     searched_at: Vec<Vec3>,
     /// The margin (m) beyond the thickness that search covered.
@@ -49,6 +51,36 @@ pub(super) struct Scratch {
     searched_settings: Option<ContactSettings>,
     searched_flags: Vec<BodyContact>,
 }
+
+/// What the pair search found per chunk of elements, before it is put in
+/// order, by kind of pair: kept from step to step, so that a search
+/// allocates nothing once they have grown.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Found {
+    point_triangle: Vec<Vec<PointTriangle>>,
+    point_segment: Vec<Vec<PointSegment>>,
+    edge_edge: Vec<Vec<EdgeEdge>>,
+    point_point: Vec<Vec<PointPoint>>,
+}
+
+/// Something of a colliding body that may meet another body (or its own),
+/// as [`Scratch::collect`] gathers it.
+#[derive(Debug, Clone, Copy)]
+enum Gathered {
+    /// A particle that looks for elements.
+    Querying(u32),
+    /// A particle of a body without a surface.
+    Loose(u32),
+    /// A triangle of a surface.
+    Triangle([u32; 3]),
+    /// A segment of a 2D loop.
+    Segment([u32; 2]),
+    /// An edge of a surface.
+    Edge([u32; 2]),
+}
+
+/// Bodies a thread takes at a time when gathering.
+const BODY_CHUNK: usize = 8;
 
 /// The bounding box of `points`, grown by `margin` (m) on every side.
 fn bounds(points: impl Iterator<Item = Vec3>, margin: Real) -> (Vec3, Vec3) {
@@ -190,86 +222,144 @@ impl Scratch {
         }
     }
 
+    /// Whether body `index` collides and may meet another body (or its
+    /// own).
+    fn considered(&self, index: usize, body: &Body) -> bool {
+        body.contact.collide && (body.contact.self_collision || !self.near(index as u32).is_empty())
+    }
+
     /// Gather the elements of colliding bodies that may meet another body
-    /// (or their own), and the particles that may.
-    fn collect(&mut self, bodies: &[Body], position: &[Vec3], reach: Real) {
+    /// (or their own), and the particles that may, in parallel over the
+    /// bodies; edges only if `with_edges`.
+    fn collect(&mut self, bodies: &[Body], position: &[Vec3], reach: Real, with_edges: bool) {
         self.near_bodies(bodies, position, reach);
-        self.body_of.clear();
-        self.body_of.resize(position.len(), NONE);
+        let mut body_of = std::mem::take(&mut self.body_of);
+        body_of.clear();
+        body_of.resize(position.len(), NONE);
+        for (index, body) in bodies.iter().enumerate() {
+            if self.considered(index, body) {
+                body_of[body.particles.clone()].fill(index as u32);
+            }
+        }
+        self.body_of = body_of;
+        let mut gathered = std::mem::take(&mut self.gathered);
+        let this = &*self;
+        let x = |i: u32| position[i as usize];
+        let margin = 0.5 * reach;
+        parallel::collect_chunks(bodies.len(), BODY_CHUNK, &mut gathered, |range, out| {
+            for index in range {
+                let body = &bodies[index];
+                if !this.considered(index, body) {
+                    continue;
+                }
+                let index = index as u32;
+                let touches = |low: Vec3, high: Vec3| this.may_touch(bodies, index, low, high);
+                let loose = body.faces.is_empty() && body.segments.is_empty();
+                for i in body.particles.clone() {
+                    let p = position[i];
+                    if touches(p, p) {
+                        out.push((Gathered::Querying(i as u32), index));
+                        if loose {
+                            out.push((Gathered::Loose(i as u32), index));
+                        }
+                    }
+                }
+                let element_box = |e: &[u32]| bounds(e.iter().map(|&i| x(i)), margin);
+                for &f in &body.faces {
+                    let (low, high) = element_box(&f);
+                    if touches(low, high) {
+                        out.push((Gathered::Triangle(f), index));
+                    }
+                }
+                for &s in &body.segments {
+                    let (low, high) = element_box(&s);
+                    if touches(low, high) {
+                        out.push((Gathered::Segment(s), index));
+                    }
+                }
+                for &e in body.edges.iter().filter(|_| with_edges) {
+                    let (low, high) = element_box(&e);
+                    if touches(low, high) {
+                        out.push((Gathered::Edge(e), index));
+                    }
+                }
+            }
+        });
         self.triangles.clear();
         self.segments.clear();
         self.edges.clear();
         self.loose.clear();
         self.querying.clear();
-        let x = |i: u32| position[i as usize];
-        for (index, body) in bodies.iter().enumerate() {
-            let index = index as u32;
-            if !body.contact.collide
-                || (!body.contact.self_collision && self.near(index).is_empty())
-            {
-                continue;
-            }
-            for i in body.particles.clone() {
-                self.body_of[i] = index;
-                if self.may_touch(bodies, index, position[i], position[i]) {
-                    self.querying.push(i as u32);
-                }
-            }
-            let margin = 0.5 * reach;
-            for &f in &body.faces {
-                let (low, high) = bounds(f.iter().map(|&i| x(i)), margin);
-                if self.may_touch(bodies, index, low, high) {
-                    self.triangles.push((f, index));
-                }
-            }
-            for &s in &body.segments {
-                let (low, high) = bounds(s.iter().map(|&i| x(i)), margin);
-                if self.may_touch(bodies, index, low, high) {
-                    self.segments.push((s, index));
-                }
-            }
-            for &e in &body.edges {
-                let (low, high) = bounds(e.iter().map(|&i| x(i)), margin);
-                if self.may_touch(bodies, index, low, high) {
-                    self.edges.push((e, index));
-                }
-            }
-            if body.faces.is_empty() && body.segments.is_empty() {
-                for i in body.particles.clone() {
-                    if self.may_touch(bodies, index, position[i], position[i]) {
-                        self.loose.push(([i as u32], index));
-                    }
-                }
+        for &(element, body) in gathered.iter().flatten() {
+            match element {
+                Gathered::Querying(i) => self.querying.push(i),
+                Gathered::Loose(i) => self.loose.push(([i], body)),
+                Gathered::Triangle(f) => self.triangles.push((f, body)),
+                Gathered::Segment(s) => self.segments.push((s, body)),
+                Gathered::Edge(e) => self.edges.push((e, body)),
             }
         }
+        self.gathered = gathered;
     }
 
-    /// Build the grid over `elements`, each box grown by `margin` (m), with
-    /// cells about the size of the average element and at least `reach`.
-    fn build<const N: usize>(
+    /// The boxes of `elements`, each grown by `margin` (m), into
+    /// `self.boxes`; returns the elements' average extent (m, the largest
+    /// side of a box before growing).
+    fn element_boxes<const N: usize>(
         &mut self,
-        elements: impl Fn(&Scratch) -> &[([u32; N], u32)],
+        elements: Elements<N>,
         position: &[Vec3],
         margin: Real,
-        reach: Real,
-    ) {
+    ) -> Real {
         let mut boxes = std::mem::take(&mut self.boxes);
         boxes.clear();
-        boxes.extend(
-            elements(self)
-                .iter()
+        let list = elements(self);
+        boxes.par_extend(
+            list.par_iter()
+                .with_min_len(QUERY_CHUNK)
                 .map(|(e, _)| bounds(e.iter().map(|&i| position[i as usize]), margin)),
         );
-        let extent = boxes
-            .iter()
-            .map(|(low, high)| (*high - *low).max_element() - 2.0 * margin)
-            .sum::<Real>()
-            / boxes.len().max(1) as Real;
-        self.grid
-            .build(extent.max(reach).max(1e-9), boxes.iter().copied());
-        self.seen.clear();
-        self.seen.resize(boxes.len(), 0);
+        let extent = parallel::sum(boxes.len(), |range| {
+            boxes[range]
+                .iter()
+                .map(|(low, high)| (*high - *low).max_element() - 2.0 * margin)
+                .sum()
+        }) / boxes.len().max(1) as Real;
         self.boxes = boxes;
+        extent
+    }
+}
+
+/// Elements a thread takes at a time in the pair search.
+const QUERY_CHUNK: usize = 1024;
+
+/// Put the pairs found in `chunks` (in their order) into `out`, grouped by
+/// their particle (`particle_of`, below `particles`) in ascending order, by
+/// a counting sort: a particle's pairs keep the order they were found in.
+fn by_particle<P: Copy>(
+    chunks: &[Vec<P>],
+    particle_of: fn(&P) -> u32,
+    particles: usize,
+    run_start: &mut Vec<u32>,
+    out: &mut Vec<P>,
+) {
+    out.clear();
+    let Some(&filler) = chunks.iter().find_map(|c| c.first()) else {
+        return;
+    };
+    run_start.clear();
+    run_start.resize(particles + 1, 0);
+    for pair in chunks.iter().flatten() {
+        run_start[particle_of(pair) as usize + 1] += 1;
+    }
+    for i in 0..particles {
+        run_start[i + 1] += run_start[i];
+    }
+    out.resize(run_start[particles] as usize, filler);
+    for pair in chunks.iter().flatten() {
+        let next = &mut run_start[particle_of(pair) as usize];
+        out[*next as usize] = *pair;
+        *next += 1;
     }
 }
 
@@ -373,87 +463,125 @@ impl Search<'_> {
         first != second || self.bodies[first as usize].contact.self_collision
     }
 
-    /// Pairs of every colliding particle with the surface elements of
-    /// `elements` (triangles or segments) within reach; `pair` makes the
-    /// pair from the particle, the element and the element's body.
-    fn particles_against<const N: usize>(
+    /// Whether `particle` (of body `body`) may touch `element` of
+    /// `element_body`: not one of its particles, nor joined to one by a
+    /// spring, and allowed between the bodies.
+    fn may_pair<const N: usize>(
         &self,
-        scratch: &mut Scratch,
-        elements: Elements<N>,
-        mut pair: impl FnMut(u32, [u32; N], u32),
-    ) {
-        if elements(scratch).is_empty() {
-            return;
-        }
-        scratch.build(elements, self.position, self.reach, self.reach);
-        let scratch = &*scratch;
-        for &particle in &scratch.querying {
-            let body = scratch.body_of[particle as usize];
-            let p = self.x(particle);
-            scratch.grid.query(p, p, |e| {
-                let (element, element_body) = elements(scratch)[e as usize];
-                let (low, high) = scratch.boxes[e as usize];
-                let inside = p.cmpge(low).all() && p.cmple(high).all();
-                let own_neighbour =
-                    body == element_body && element.iter().any(|&v| self.links.linked(particle, v));
-                if inside
-                    && self.allowed(body, element_body)
-                    && !element.contains(&particle)
-                    && !own_neighbour
-                {
-                    pair(particle, element, element_body);
-                }
-            });
-        }
+        particle: u32,
+        body: u32,
+        element: [u32; N],
+        element_body: u32,
+    ) -> bool {
+        self.allowed(body, element_body)
+            && !element.contains(&particle)
+            && !(body == element_body && element.iter().any(|&v| self.links.linked(particle, v)))
     }
 
-    /// Pairs of elements of `elements` with each other within reach (each
-    /// pair once); `pair` gets both, with their bodies. Only elements whose
-    /// body `asks` look for partners (the others are found by them): edges
-    /// of closed surfaces need no partner among themselves.
-    fn among<const N: usize>(
+    /// The pairs of every querying particle with the surface elements of
+    /// `elements` (triangles or segments) within reach, grouped by particle
+    /// in ascending order, each particle's in the order of the elements,
+    /// into `out`; `pair` makes the pair from the particle, the element and
+    /// the element's body, or nothing when it cannot touch within the
+    /// reach. The particles go into a grid (one cell each) and
+    /// each element's box, grown by the reach, asks it for the particles
+    /// inside, in parallel over chunks of elements.
+    fn particles_against<const N: usize, P: Copy + Send>(
         &self,
         scratch: &mut Scratch,
         elements: Elements<N>,
-        asks: impl Fn(u32) -> bool,
-        mut pair: impl FnMut(([u32; N], u32), ([u32; N], u32)),
+        (chunks, out): (&mut Vec<Vec<P>>, &mut Vec<P>),
+        particle_of: fn(&P) -> u32,
+        pair: impl Fn(u32, [u32; N], u32) -> Option<P> + Sync,
     ) {
+        out.clear();
+        if elements(scratch).is_empty() || scratch.querying.is_empty() {
+            return;
+        }
+        let extent = scratch.element_boxes(elements, self.position, self.reach);
+        let Scratch { grid, querying, .. } = scratch;
+        let points = querying.iter().map(|&i| (self.x(i), self.x(i)));
+        grid.build((extent + 2.0 * self.reach).max(1e-9), points);
+        let built = &*scratch;
+        let list = elements(built);
+        parallel::collect_chunks(list.len(), QUERY_CHUNK, chunks, |range, found| {
+            for e in range {
+                let (element, element_body) = list[e];
+                let (low, high) = built.boxes[e];
+                built.grid.query(low, high, |q| {
+                    let particle = built.querying[q as usize];
+                    let p = self.x(particle);
+                    let inside = p.cmpge(low).all() && p.cmple(high).all();
+                    let body = built.body_of[particle as usize];
+                    if inside && self.may_pair(particle, body, element, element_body) {
+                        found.extend(pair(particle, element, element_body));
+                    }
+                });
+            }
+        });
+        by_particle(
+            chunks,
+            particle_of,
+            self.position.len(),
+            &mut scratch.run_start,
+            out,
+        );
+    }
+
+    /// The pairs of elements of `elements` with each other within reach
+    /// (each pair once) into `out`, in parallel over chunks of elements;
+    /// `pair` gets both, with their bodies, and keeps the pair or not. Only
+    /// elements whose body `asks` look for partners (the others are found
+    /// by them): edges of closed surfaces need no partner among themselves.
+    fn among<const N: usize, P: Send + Copy>(
+        &self,
+        scratch: &mut Scratch,
+        elements: Elements<N>,
+        asks: impl Fn(u32) -> bool + Sync,
+        (chunks, out): (&mut Vec<Vec<P>>, &mut Vec<P>),
+        pair: impl Fn(([u32; N], u32), ([u32; N], u32)) -> Option<P> + Sync,
+    ) {
+        out.clear();
         let count = elements(scratch).len();
         if count < 2 {
             return;
         }
-        scratch.build(elements, self.position, 0.5 * self.reach, self.reach);
-        let mut seen = std::mem::take(&mut scratch.seen);
+        let extent = scratch.element_boxes(elements, self.position, 0.5 * self.reach);
+        let Scratch { grid, boxes, .. } = scratch;
+        grid.build(extent.max(self.reach).max(1e-9), boxes.iter().copied());
         let built = &*scratch;
         let list = elements(built);
-        for first in 0..count {
-            if !asks(list[first].1) {
-                continue;
+        parallel::collect_chunks(count, QUERY_CHUNK, chunks, |range, found| {
+            for first in range {
+                if !asks(list[first].1) {
+                    continue;
+                }
+                let (low, high) = built.boxes[first];
+                built.grid.query_once(low, high, |second| {
+                    let second = second as usize;
+                    // Each pair once: from the lower index, unless only the
+                    // higher one asks.
+                    let once = second > first || !asks(list[second].1);
+                    if !once || second == first {
+                        return;
+                    }
+                    let (a, b) = (list[first], list[second]);
+                    let own_neighbours = || {
+                        a.1 == b.1
+                            && a.0
+                                .iter()
+                                .any(|&p| b.0.iter().any(|&q| self.links.linked(p, q)))
+                    };
+                    if overlap((low, high), built.boxes[second])
+                        && self.allowed(a.1, b.1)
+                        && !own_neighbours()
+                    {
+                        found.extend(pair(a, b));
+                    }
+                });
             }
-            let (low, high) = built.boxes[first];
-            built.grid.query(low, high, |second| {
-                let second = second as usize;
-                // Each pair once: from the lower index, unless only the
-                // higher one asks.
-                let once = second > first || !asks(list[second].1);
-                if !once || second == first || seen[second] == first as u32 + 1 {
-                    return;
-                }
-                seen[second] = first as u32 + 1;
-                let (a, b) = (list[first], list[second]);
-                let own_neighbours = a.1 == b.1
-                    && a.0
-                        .iter()
-                        .any(|&p| b.0.iter().any(|&q| self.links.linked(p, q)));
-                if self.allowed(a.1, b.1)
-                    && !own_neighbours
-                    && overlap((low, high), built.boxes[second])
-                {
-                    pair(a, b);
-                }
-            });
-        }
-        scratch.seen = seen;
+        });
+        out.extend(chunks.iter().flatten().copied());
     }
 }
 
@@ -511,6 +639,7 @@ impl Contacts {
         let Contacts {
             pairs,
             scratch,
+            found,
             settings,
             links,
             ..
@@ -518,7 +647,10 @@ impl Contacts {
         let margin = settings.thickness + closing;
         let reach = settings.thickness + margin;
         scratch.searched(bodies, position, margin, settings);
-        scratch.collect(bodies, position, reach);
+        // Edges against edges only where a surface is open (closed ones
+        // are kept apart by their particles and triangles alone).
+        let open = |b: &Body| b.contact.collide && !b.closed && !b.faces.is_empty();
+        scratch.collect(bodies, position, reach, bodies.iter().any(open));
         links.build(bodies, springs, position.len());
         let search = Search {
             bodies,
@@ -527,66 +659,65 @@ impl Contacts {
             links,
         };
         let x = |i: u32| position[i as usize];
-        let ContactPairs {
-            point_triangle,
-            point_segment,
-            edge_edge,
-            point_point,
-        } = pairs;
         search.particles_against(
             scratch,
             |s| &s.triangles,
+            (&mut found.point_triangle, &mut pairs.point_triangle),
+            |pair| pair.particle,
             |particle, [a, b, c], body| {
                 let closed = bodies[body as usize].closed;
-                let p = x(particle);
-                let w = closest_on_triangle(p, x(a), x(b), x(c));
-                let q = w[0] * x(a) + w[1] * x(b) + w[2] * x(c);
-                let face = (x(b) - x(a)).cross(x(c) - x(a));
-                point_triangle.push(PointTriangle {
+                let side = if closed {
+                    1.0
+                } else {
+                    let p = x(particle);
+                    let w = closest_on_triangle(p, x(a), x(b), x(c));
+                    let q = w[0] * x(a) + w[1] * x(b) + w[2] * x(c);
+                    side_of(p - q, (x(b) - x(a)).cross(x(c) - x(a)))
+                };
+                let pair = PointTriangle {
                     particle,
                     triangle: [a, b, c],
                     body,
-                    side: if closed { 1.0 } else { side_of(p - q, face) },
-                });
+                    side,
+                };
+                pair.touch(position, reach).is_some().then_some(pair)
             },
         );
         search.particles_against(
             scratch,
             |s| &s.segments,
+            (&mut found.point_segment, &mut pairs.point_segment),
+            |pair| pair.particle,
             |particle, [a, b], body| {
                 let closed = bodies[body as usize].closed;
-                let p = x(particle);
-                let d = x(b) - x(a);
-                let q = x(a) + closest_on_segment(p, x(a), x(b)) * d;
-                point_segment.push(PointSegment {
+                let side = if closed {
+                    1.0
+                } else {
+                    let p = x(particle);
+                    let d = x(b) - x(a);
+                    let q = x(a) + closest_on_segment(p, x(a), x(b)) * d;
+                    side_of(p - q, Vec3::new(d.y, -d.x, 0.0))
+                };
+                let pair = PointSegment {
                     particle,
                     segment: [a, b],
                     body,
-                    side: if closed {
-                        1.0
-                    } else {
-                        side_of(p - q, Vec3::new(d.y, -d.x, 0.0))
-                    },
-                });
+                    side,
+                };
+                pair.touch(position, reach).is_some().then_some(pair)
             },
         );
-        let reach = search.reach;
-        // Edges against edges only where a surface is open (closed ones
-        // are kept apart by their particles and triangles alone).
-        let open = |b: &Body| b.contact.collide && !b.closed && !b.faces.is_empty();
-        if !bodies.iter().any(open) {
-            scratch.edges.clear();
-        }
         search.among(
             scratch,
             |s| &s.edges,
             |body| !bodies[body as usize].closed,
+            (&mut found.edge_edge, &mut pairs.edge_edge),
             |([p1, q1], body1), ([p2, q2], body2)| {
                 if bodies[body1 as usize].closed && bodies[body2 as usize].closed {
-                    return;
+                    return None;
                 }
                 if p1 == p2 || p1 == q2 || q1 == p2 || q1 == q2 {
-                    return;
+                    return None;
                 }
                 let (s, t) = closest_between_segments(x(p1), x(q1), x(p2), x(q2));
                 let gap = (x(p1) + s * (x(q1) - x(p1))) - (x(p2) + t * (x(q2) - x(p2)));
@@ -596,29 +727,26 @@ impl Contacts {
                 } else {
                     (x(q1) - x(p1)).cross(x(q2) - x(p2)).normalize_or_zero()
                 };
-                if distance < reach && direction != Vec3::ZERO {
-                    edge_edge.push(EdgeEdge {
-                        first: [p1, q1],
-                        second: [p2, q2],
-                        direction,
-                    });
-                }
+                (distance < reach && direction != Vec3::ZERO).then_some(EdgeEdge {
+                    first: [p1, q1],
+                    second: [p2, q2],
+                    direction,
+                })
             },
         );
         search.among(
             scratch,
             |s| &s.loose,
             |_| true,
+            (&mut found.point_point, &mut pairs.point_point),
             |([first], body1), ([second], body2)| {
                 let gap = x(first) - x(second);
                 let distance = gap.length();
-                if body1 != body2 && distance < reach && distance > 0.0 {
-                    point_point.push(PointPoint {
-                        first,
-                        second,
-                        direction: gap / distance,
-                    });
-                }
+                (body1 != body2 && distance < reach && distance > 0.0).then(|| PointPoint {
+                    first,
+                    second,
+                    direction: gap / distance,
+                })
             },
         );
     }

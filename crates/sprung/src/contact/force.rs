@@ -1,7 +1,7 @@
 //! The penalty force of the contacts between bodies, as an entry of the
 //! world's force list (see the module documentation of [`super`]).
 
-use super::pairs::Touch;
+use super::pairs::{Touch, Touches};
 use crate::forces::{Force, ForceContext, JacobianScale, Linearization};
 use crate::measure::Energies;
 use crate::{Real, Vec3};
@@ -20,6 +20,8 @@ use crate::{Real, Vec3};
 pub struct BodyContacts {
     /// The pairs that pushed at the last linearisation.
     active: Vec<Active>,
+    /// The touches of the last evaluation (kept for their buffers).
+    touches: Touches,
 }
 
 /// A pushing pair at the linearisation state.
@@ -53,14 +55,17 @@ impl Force for BodyContacts {
 
     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
         let contacts = context.contacts;
-        contacts
-            .pairs
-            .for_each_touch(context.position, contacts.settings.thickness, |touch| {
-                let (k, c) = coefficients(context, &touch);
-                let normal_speed = touch.relative(context.velocity).dot(touch.normal);
-                let push = (k * touch.depth - c * normal_speed).max(0.0);
-                touch.apply(push * touch.normal, force);
-            });
+        self.touches.measure(
+            &contacts.pairs,
+            context.position,
+            contacts.settings.thickness,
+        );
+        for touch in self.touches.iter() {
+            let (k, c) = coefficients(context, touch);
+            let normal_speed = touch.relative(context.velocity).dot(touch.normal);
+            let push = (k * touch.depth - c * normal_speed).max(0.0);
+            touch.apply(push * touch.normal, force);
+        }
     }
 
     fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {

@@ -15,7 +15,8 @@
 //! positions move by the velocity change times `dt` too, as if the impulse
 //! had acted at the start of the (sub)step: otherwise each step's sliding,
 //! taken before the friction stops it, would add up to a steady creep of a
-//! resting body (`g sin θ dt` per second on a slope). Pairs are taken in
+//! resting body (`g sin θ dt` per second on a slope). The pairs are all
+//! measured at the positions the step left (in parallel), then taken in
 //! their fixed order, each seeing the velocities the earlier ones left.
 
 use super::Contacts;
@@ -37,37 +38,31 @@ impl Contacts {
         if friction == 0.0 || self.pairs.is_empty() {
             return;
         }
-        let mut moved = std::mem::take(&mut self.scratch_moved);
-        moved.clear();
-        moved.resize(position.len(), Vec3::ZERO);
-        self.pairs
-            .for_each_touch(position, self.settings.thickness, |touch| {
-                let (k, c) = self
-                    .settings
-                    .coefficients(mass[touch.particles[0] as usize]);
-                let relative = touch.relative(velocity);
-                let normal_speed = relative.dot(touch.normal);
-                let push = (k * touch.depth - c * normal_speed).max(0.0);
-                let sliding = relative - normal_speed * touch.normal;
-                let speed = sliding.length();
-                let inverse_effective_mass: Real = (0..touch.count)
-                    .map(|i| touch.weights[i].powi(2) * inverse_mass[touch.particles[i] as usize])
-                    .sum();
-                if push == 0.0 || speed == 0.0 || inverse_effective_mass == 0.0 {
-                    return;
-                }
-                let impulse = (speed / inverse_effective_mass).min(friction * push * dt);
-                let along = -impulse / speed * sliding;
-                for i in 0..touch.count {
-                    let p = touch.particles[i] as usize;
-                    let change = touch.weights[i] * inverse_mass[p] * along;
-                    velocity[p] += change;
-                    moved[p] += change * dt;
-                }
-            });
-        for (x, d) in position.iter_mut().zip(&moved) {
-            *x += *d;
+        let touches = &mut self.touches;
+        touches.measure(&self.pairs, position, self.settings.thickness);
+        for touch in touches.iter() {
+            let (k, c) = self
+                .settings
+                .coefficients(mass[touch.particles[0] as usize]);
+            let relative = touch.relative(velocity);
+            let normal_speed = relative.dot(touch.normal);
+            let push = (k * touch.depth - c * normal_speed).max(0.0);
+            let sliding = relative - normal_speed * touch.normal;
+            let speed = sliding.length();
+            let inverse_effective_mass: Real = (0..touch.count)
+                .map(|i| touch.weights[i].powi(2) * inverse_mass[touch.particles[i] as usize])
+                .sum();
+            if push == 0.0 || speed == 0.0 || inverse_effective_mass == 0.0 {
+                continue;
+            }
+            let impulse = (speed / inverse_effective_mass).min(friction * push * dt);
+            let along = -impulse / speed * sliding;
+            for i in 0..touch.count {
+                let p = touch.particles[i] as usize;
+                let change = touch.weights[i] * inverse_mass[p] * along;
+                velocity[p] += change;
+                position[p] += change * dt;
+            }
         }
-        self.scratch_moved = moved;
     }
 }

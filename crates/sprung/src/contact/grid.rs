@@ -28,6 +28,8 @@ pub struct Grid {
     scratch: Vec<(u64, u32)>,
     /// Scratch: the next free place of each bucket while filling.
     fill: Vec<u32>,
+    /// Per element, the lowest cell it was entered in.
+    lowest: Vec<[i64; 3]>,
 }
 
 /// The integer cell of coordinate `x` (m) in cells of side `cell`.
@@ -77,8 +79,10 @@ impl Grid {
     pub fn build(&mut self, cell: Real, boxes: impl Iterator<Item = (Vec3, Vec3)>) {
         self.cell = cell;
         self.scratch.clear();
+        self.lowest.clear();
         for (element, (low, high)) in boxes.enumerate() {
             let (lo, hi) = cell_range(low, high, cell);
+            self.lowest.push(lo);
             for i in lo[0]..=hi[0] {
                 for j in lo[1]..=hi[1] {
                     for k in lo[2]..=hi[2] {
@@ -113,6 +117,26 @@ impl Grid {
     /// per shared cell), and an element of another cell that hashes to the
     /// same bucket never does.
     pub fn query(&self, low: Vec3, high: Vec3, mut visit: impl FnMut(u32)) {
+        self.query_cells(low, high, |_, element| visit(element));
+    }
+
+    /// Like [`Grid::query`], but each element at most once: in the lowest
+    /// cell (per axis) that it shares with the box `(low, high)` (m), which
+    /// is the first such cell the query visits. The elements come in the
+    /// same order as the first visits of [`Grid::query`].
+    pub fn query_once(&self, low: Vec3, high: Vec3, mut visit: impl FnMut(u32)) {
+        let lo = cell_range(low, high, self.cell).0;
+        self.query_cells(low, high, |cell, element| {
+            let own = self.lowest[element as usize];
+            if (0..3).all(|axis| cell[axis] == lo[axis].max(own[axis])) {
+                visit(element);
+            }
+        });
+    }
+
+    /// Call `visit(cell, element)` for each element entered in a cell of
+    /// the box `(low, high)` (m), with that cell.
+    fn query_cells(&self, low: Vec3, high: Vec3, mut visit: impl FnMut([i64; 3], u32)) {
         let buckets = self.start.len().saturating_sub(1);
         if buckets == 0 || self.entries.is_empty() {
             return;
@@ -126,7 +150,7 @@ impl Grid {
                     let range = self.start[b] as usize..self.start[b + 1] as usize;
                     for &(entry_key, element) in &self.entries[range] {
                         if entry_key == wanted {
-                            visit(element);
+                            visit([i, j, k], element);
                         }
                     }
                 }
@@ -170,5 +194,33 @@ mod tests {
         let mut any = false;
         grid.query(Vec3::splat(100.0), Vec3::splat(100.1), |_| any = true);
         assert!(!any);
+    }
+
+    #[test]
+    fn query_once_visits_each_element_once_in_first_visit_order() {
+        // Boxes spanning several cells, so that pairs share many cells.
+        let boxes: Vec<(Vec3, Vec3)> = (0..60)
+            .map(|i| {
+                let low = Vec3::new(
+                    i as Real * 0.07,
+                    (i % 5) as Real * 0.11,
+                    (i % 3) as Real * 0.05,
+                );
+                (low, low + Vec3::new(0.3, 0.2, 0.25))
+            })
+            .collect();
+        let mut grid = Grid::default();
+        grid.build(0.1, boxes.iter().copied());
+        for query in &boxes {
+            let mut first_visits = Vec::new();
+            grid.query(query.0, query.1, |e| {
+                if !first_visits.contains(&e) {
+                    first_visits.push(e);
+                }
+            });
+            let mut once = Vec::new();
+            grid.query_once(query.0, query.1, |e| once.push(e));
+            assert_eq!(once, first_visits);
+        }
     }
 }

@@ -30,9 +30,17 @@
 //! **Stages.** The *detect* stage ([`Contacts::detect`]) runs once per step
 //! before integrating: a uniform grid ([`grid`]) finds, in time linear in
 //! the number of elements, every pair of elements within the thickness
-//! plus a margin covering the step's motion, and keeps them as candidate
-//! pairs ([`ContactPairs`]). The penalty force ([`BodyContacts`]) evaluates
-//! only those pairs, at every trial state the integrator asks for.
+//! plus a margin covering the step's motion (the *reach*), and keeps them
+//! as candidate pairs ([`ContactPairs`]): a pair is a candidate when it
+//! would touch if the thickness were the reach. The particles that may
+//! meet another body go into the grid, one cell each, and each surface
+//! element asks it for the particles within reach of its box; edges and
+//! loose particles are found among themselves. The search runs in parallel
+//! over chunks of elements and puts what it found in a fixed order (by
+//! particle, then element), so the pairs are the same whatever the number
+//! of threads. The penalty force ([`BodyContacts`]) evaluates only those
+//! pairs, at every trial state the integrator asks for, measuring them in
+//! parallel and adding their forces in the pairs' order.
 //!
 //! **Sides.** A closed surface pushes along its outward normal, so a
 //! particle that got inside is pushed out. An open surface (cloth) pushes
@@ -139,7 +147,8 @@ pub struct Contacts {
     /// The candidate pairs found by the last detect stage.
     pub pairs: ContactPairs,
     scratch: detect::Scratch,
+    found: detect::Found,
     links: detect::Links,
-    /// Friction's position changes, gathered over the pairs of a step.
-    scratch_moved: Vec<crate::Vec3>,
+    /// The touches friction acts on, measured before it acts.
+    touches: pairs::Touches,
 }

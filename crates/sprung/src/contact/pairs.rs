@@ -3,6 +3,9 @@
 //! the normal, and how deep inside the thickness they are.
 
 use super::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
+use std::ops::Range;
+
+use crate::parallel;
 use crate::{Real, Vec3};
 
 /// A particle against a triangle of a surface (3D).
@@ -20,6 +23,43 @@ pub struct PointTriangle {
     pub side: Real,
 }
 
+impl PointTriangle {
+    /// The touch of the pair at `position` (m) if the particle is within
+    /// `thickness` (m) of the triangle in front of it, or anywhere behind
+    /// it over its inside (a particle that got inside a closed surface is
+    /// pushed out however deep).
+    pub(crate) fn touch(&self, position: &[Vec3], thickness: Real) -> Option<Touch> {
+        let x = |i: u32| position[i as usize];
+        let [a, b, c] = self.triangle;
+        let p = x(self.particle);
+        let (xa, xb, xc) = (x(a), x(b), x(c));
+        let face = self.side * (xb - xa).cross(xc - xa);
+        // In front of the triangle's plane by more than the thickness: no
+        // point of it is within reach.
+        let height = (p - xa).dot(face);
+        if height > 0.0 && height * height > thickness * thickness * face.length_squared() {
+            return None;
+        }
+        // In front of the plane and farther than the thickness from the
+        // triangle's box: no point of it is within reach either.
+        let reach = Vec3::splat(thickness);
+        let (low, high) = (xa.min(xb).min(xc) - reach, xa.max(xb).max(xc) + reach);
+        if height >= 0.0 && !(p.cmpge(low).all() && p.cmple(high).all()) {
+            return None;
+        }
+        let weights = closest_on_triangle(p, xa, xb, xc);
+        let closest = weights[0] * xa + weights[1] * xb + weights[2] * xc;
+        let interior = weights.iter().all(|&w| w > 0.0);
+        push(p - closest, face, interior, thickness).map(|(normal, depth)| Touch {
+            particles: [self.particle, a, b, c],
+            weights: [1.0, -weights[0], -weights[1], -weights[2]],
+            count: 4,
+            normal,
+            depth,
+        })
+    }
+}
+
 /// A particle against a segment of a 2D loop.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointSegment {
@@ -32,6 +72,32 @@ pub struct PointSegment {
     /// +1 or -1: the side along the segment's normal `(Δy, -Δx)` the
     /// particle is pushed to.
     pub side: Real,
+}
+
+impl PointSegment {
+    /// The touch of the pair at `position` (m): as
+    /// [`PointTriangle::touch`], in 2D.
+    pub(crate) fn touch(&self, position: &[Vec3], thickness: Real) -> Option<Touch> {
+        let x = |i: u32| position[i as usize];
+        let [a, b] = self.segment;
+        let p = x(self.particle);
+        let d = x(b) - x(a);
+        let face = self.side * Vec3::new(d.y, -d.x, 0.0);
+        let height = (p - x(a)).dot(face);
+        if height > 0.0 && height * height > thickness * thickness * face.length_squared() {
+            return None;
+        }
+        let t = closest_on_segment(p, x(a), x(b));
+        let closest = x(a) + t * d;
+        let interior = t > 0.0 && t < 1.0;
+        push(p - closest, face, interior, thickness).map(|(normal, depth)| Touch {
+            particles: [self.particle, a, b, 0],
+            weights: [1.0, -(1.0 - t), -t, 0.0],
+            count: 3,
+            normal,
+            depth,
+        })
+    }
 }
 
 /// An edge against an edge (where at least one surface is open).
@@ -128,86 +194,158 @@ impl ContactPairs {
         thickness: Real,
         mut touch: impl FnMut(Touch),
     ) {
+        for kind in Kind::ALL {
+            self.touches_in(kind, 0..self.len_of(kind), position, thickness, &mut touch);
+        }
+    }
+
+    /// The number of pairs of `kind`.
+    fn len_of(&self, kind: Kind) -> usize {
+        match kind {
+            Kind::PointTriangle => self.point_triangle.len(),
+            Kind::PointSegment => self.point_segment.len(),
+            Kind::EdgeEdge => self.edge_edge.len(),
+            Kind::PointPoint => self.point_point.len(),
+        }
+    }
+
+    /// Whether the pairs of `kind` may be cut before pair `i` (`0 < i <
+    /// len`): not inside a particle's run of point–element pairs, whose
+    /// closest element is picked among them.
+    fn cut_before(&self, kind: Kind, i: usize) -> bool {
+        match kind {
+            Kind::PointTriangle => {
+                self.point_triangle[i].particle != self.point_triangle[i - 1].particle
+            }
+            Kind::PointSegment => {
+                self.point_segment[i].particle != self.point_segment[i - 1].particle
+            }
+            Kind::EdgeEdge | Kind::PointPoint => true,
+        }
+    }
+
+    /// [`ContactPairs::for_each_touch`] over the pairs `range` of `kind`
+    /// (whole runs of a particle's pairs).
+    fn touches_in(
+        &self,
+        kind: Kind,
+        range: Range<usize>,
+        position: &[Vec3],
+        thickness: Real,
+        touch: &mut impl FnMut(Touch),
+    ) {
         let x = |i: u32| position[i as usize];
-        closest_per_body(
-            &self.point_triangle,
-            |pair| (pair.particle, pair.body),
-            |pair| {
-                let [a, b, c] = pair.triangle;
-                let face = pair.side * (x(b) - x(a)).cross(x(c) - x(a));
-                // In front of the triangle's plane by more than the
-                // thickness: no point of it is within reach.
-                let height = (x(pair.particle) - x(a)).dot(face);
-                if height > 0.0 && height * height > thickness * thickness * face.length_squared() {
-                    return None;
+        match kind {
+            Kind::PointTriangle => closest_per_body(
+                &self.point_triangle[range],
+                |pair| (pair.particle, pair.body),
+                |pair| pair.touch(position, thickness),
+                touch,
+            ),
+            Kind::PointSegment => closest_per_body(
+                &self.point_segment[range],
+                |pair| (pair.particle, pair.body),
+                |pair| pair.touch(position, thickness),
+                touch,
+            ),
+            Kind::EdgeEdge => {
+                for pair in &self.edge_edge[range] {
+                    let ([p1, q1], [p2, q2]) = (pair.first, pair.second);
+                    let (s, t) = closest_between_segments(x(p1), x(q1), x(p2), x(q2));
+                    let gap = (x(p1) + s * (x(q1) - x(p1))) - (x(p2) + t * (x(q2) - x(p2)));
+                    if let Some((normal, depth)) = apart(gap, pair.direction, thickness) {
+                        touch(Touch {
+                            particles: [p1, q1, p2, q2],
+                            weights: [1.0 - s, s, -(1.0 - t), -t],
+                            count: 4,
+                            normal,
+                            depth,
+                        });
+                    }
                 }
-                let weights = closest_on_triangle(x(pair.particle), x(a), x(b), x(c));
-                let closest = weights[0] * x(a) + weights[1] * x(b) + weights[2] * x(c);
-                let interior = weights.iter().all(|&w| w > 0.0);
-                push(x(pair.particle) - closest, face, interior, thickness).map(
-                    |(normal, depth)| Touch {
-                        particles: [pair.particle, a, b, c],
-                        weights: [1.0, -weights[0], -weights[1], -weights[2]],
-                        count: 4,
-                        normal,
-                        depth,
-                    },
-                )
-            },
-            &mut touch,
-        );
-        closest_per_body(
-            &self.point_segment,
-            |pair| (pair.particle, pair.body),
-            |pair| {
-                let [a, b] = pair.segment;
-                let d = x(b) - x(a);
-                let face = pair.side * Vec3::new(d.y, -d.x, 0.0);
-                let height = (x(pair.particle) - x(a)).dot(face);
-                if height > 0.0 && height * height > thickness * thickness * face.length_squared() {
-                    return None;
+            }
+            Kind::PointPoint => {
+                for pair in &self.point_point[range] {
+                    let gap = x(pair.first) - x(pair.second);
+                    if let Some((normal, depth)) = apart(gap, pair.direction, thickness) {
+                        touch(Touch {
+                            particles: [pair.first, pair.second, 0, 0],
+                            weights: [1.0, -1.0, 0.0, 0.0],
+                            count: 2,
+                            normal,
+                            depth,
+                        });
+                    }
                 }
-                let t = closest_on_segment(x(pair.particle), x(a), x(b));
-                let closest = x(a) + t * d;
-                let interior = t > 0.0 && t < 1.0;
-                push(x(pair.particle) - closest, face, interior, thickness).map(
-                    |(normal, depth)| Touch {
-                        particles: [pair.particle, a, b, 0],
-                        weights: [1.0, -(1.0 - t), -t, 0.0],
-                        count: 3,
-                        normal,
-                        depth,
-                    },
-                )
-            },
-            &mut touch,
-        );
-        for pair in &self.edge_edge {
-            let ([p1, q1], [p2, q2]) = (pair.first, pair.second);
-            let (s, t) = closest_between_segments(x(p1), x(q1), x(p2), x(q2));
-            let gap = (x(p1) + s * (x(q1) - x(p1))) - (x(p2) + t * (x(q2) - x(p2)));
-            if let Some((normal, depth)) = apart(gap, pair.direction, thickness) {
-                touch(Touch {
-                    particles: [p1, q1, p2, q2],
-                    weights: [1.0 - s, s, -(1.0 - t), -t],
-                    count: 4,
-                    normal,
-                    depth,
-                });
             }
         }
-        for pair in &self.point_point {
-            let gap = x(pair.first) - x(pair.second);
-            if let Some((normal, depth)) = apart(gap, pair.direction, thickness) {
-                touch(Touch {
-                    particles: [pair.first, pair.second, 0, 0],
-                    weights: [1.0, -1.0, 0.0, 0.0],
-                    count: 2,
-                    normal,
-                    depth,
-                });
+    }
+}
+
+/// The four lists of pairs, in the order their touches come.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    PointTriangle,
+    PointSegment,
+    EdgeEdge,
+    PointPoint,
+}
+
+impl Kind {
+    const ALL: [Kind; 4] = [
+        Kind::PointTriangle,
+        Kind::PointSegment,
+        Kind::EdgeEdge,
+        Kind::PointPoint,
+    ];
+}
+
+/// Pairs a thread measures at a time (rounded up to whole runs).
+const PAIR_CHUNK: usize = 2048;
+
+/// The touches of the candidate pairs at a state, measured in parallel over
+/// pieces of the pairs and kept in the order of
+/// [`ContactPairs::for_each_touch`], so that whatever applies them in that
+/// order gets the same bits on any number of threads. The buffers are kept
+/// from step to step.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct Touches {
+    /// The pieces: a list and a range of whole runs in it.
+    pieces: Vec<(Kind, Range<usize>)>,
+    /// Per piece, its touches.
+    found: Vec<Vec<Touch>>,
+}
+
+impl Touches {
+    /// Measure every pair of `pairs` at `position` (m) with the contact
+    /// `thickness` (m).
+    pub fn measure(&mut self, pairs: &ContactPairs, position: &[Vec3], thickness: Real) {
+        self.pieces.clear();
+        for kind in Kind::ALL {
+            let len = pairs.len_of(kind);
+            let mut start = 0;
+            while start < len {
+                let mut end = (start + PAIR_CHUNK).min(len);
+                while end < len && !pairs.cut_before(kind, end) {
+                    end += 1;
+                }
+                self.pieces.push((kind, start..end));
+                start = end;
             }
         }
+        let pieces = &self.pieces;
+        parallel::collect_chunks(pieces.len(), 1, &mut self.found, |range, found| {
+            for (kind, piece) in &pieces[range] {
+                pairs.touches_in(*kind, piece.clone(), position, thickness, &mut |t| {
+                    found.push(t)
+                });
+            }
+        });
+    }
+
+    /// The touches of the last measure, in order.
+    pub fn iter(&self) -> impl Iterator<Item = &Touch> {
+        self.found.iter().flatten()
     }
 }
 

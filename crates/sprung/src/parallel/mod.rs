@@ -189,6 +189,32 @@ pub fn find_first<T: Send>(
         .find_map_first(|c| in_chunk(c * CHUNK..((c + 1) * CHUNK).min(len)))
 }
 
+/// Call `f(piece, buffer)` on the pieces of `0..len` of at most `chunk`
+/// indices, in parallel, each piece writing into a buffer of its own
+/// (emptied first): `buffers[c]` holds what piece `c` wrote, so reading the
+/// buffers in order gives the same sequence whatever the number of
+/// threads. The buffers are kept for the next call, so once they have
+/// grown nothing is allocated. Buffers past the last piece are left empty.
+pub fn collect_chunks<T: Send>(
+    len: usize,
+    chunk: usize,
+    buffers: &mut Vec<Vec<T>>,
+    f: impl Fn(Range<usize>, &mut Vec<T>) + Sync,
+) {
+    let chunk = chunk.max(1);
+    let pieces = len.div_ceil(chunk);
+    if buffers.len() < pieces {
+        buffers.resize_with(pieces, Vec::new);
+    }
+    buffers.iter_mut().for_each(Vec::clear);
+    let run = |(c, buffer): (usize, &mut Vec<T>)| f(c * chunk..((c + 1) * chunk).min(len), buffer);
+    if pieces <= 1 {
+        buffers.iter_mut().take(pieces).enumerate().for_each(run);
+    } else {
+        buffers[..pieces].par_iter_mut().enumerate().for_each(run);
+    }
+}
+
 /// Slices of equal length (one, or a tuple of them) that can be cut at an
 /// index into two sets of slices; [`for_each_span`] hands the pieces to
 /// threads.
