@@ -2,6 +2,7 @@
 
 use super::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
 use super::grid::Grid;
+use super::links::Links;
 use super::{ContactSettings, Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
 use crate::body::{Body, BodyContact};
 use crate::parallel;
@@ -366,85 +367,6 @@ fn by_particle<P: Copy>(
 /// Picks a list of elements (with their bodies) out of the buffers.
 type Elements<const N: usize> = fn(&Scratch) -> &[([u32; N], u32)];
 
-/// The particles joined to each particle by a spring, for the particles of
-/// self-colliding bodies: a particle does not collide with an element of
-/// its own body that holds one of them (they are kept at their distance by
-/// the spring already, and would otherwise be found within reach of each
-/// other at rest).
-#[derive(Debug, Clone, Default)]
-pub(super) struct Links {
-    start: Vec<u32>,
-    list: Vec<u32>,
-    /// What they were built from: the springs' topology, the particles,
-    /// the bodies' flags.
-    built_for: Option<(u64, usize, Vec<BodyContact>)>,
-}
-
-impl Links {
-    /// Rebuild from the springs of the self-colliding bodies, unless those
-    /// are what they were built from.
-    fn build(&mut self, bodies: &[Body], springs: &Springs, particles: usize) {
-        let unchanged = self
-            .built_for
-            .as_ref()
-            .is_some_and(|(topology, count, flags)| {
-                *topology == springs.topology()
-                    && *count == particles
-                    && flags.iter().eq(bodies.iter().map(|b| &b.contact))
-            });
-        if unchanged {
-            return;
-        }
-        self.built_for = Some((
-            springs.topology(),
-            particles,
-            bodies.iter().map(|b| b.contact).collect(),
-        ));
-        self.start.clear();
-        self.list.clear();
-        let selfish = |i: u32, b: &Body| b.particles.contains(&(i as usize));
-        let wanted: Vec<&Body> = bodies
-            .iter()
-            .filter(|b| b.contact.collide && b.contact.self_collision)
-            .collect();
-        if wanted.is_empty() {
-            return;
-        }
-        let mut count = vec![0u32; particles + 1];
-        let mut kept = Vec::new();
-        for body in &wanted {
-            for s in body.springs.clone() {
-                let (i, j) = (springs.first()[s], springs.second()[s]);
-                if selfish(i, body) && selfish(j, body) {
-                    count[i as usize + 1] += 1;
-                    count[j as usize + 1] += 1;
-                    kept.push((i, j));
-                }
-            }
-        }
-        for i in 0..particles {
-            count[i + 1] += count[i];
-        }
-        self.list.resize(count[particles] as usize, 0);
-        let mut fill = count.clone();
-        for (i, j) in kept {
-            self.list[fill[i as usize] as usize] = j;
-            fill[i as usize] += 1;
-            self.list[fill[j as usize] as usize] = i;
-            fill[j as usize] += 1;
-        }
-        self.start = count;
-    }
-
-    /// Whether particles `a` and `b` are the same or joined by a spring.
-    fn linked(&self, a: u32, b: u32) -> bool {
-        a == b
-            || self.start.get(a as usize + 1).is_some_and(|&end| {
-                self.list[self.start[a as usize] as usize..end as usize].contains(&b)
-            })
-    }
-}
-
 /// What the pair search needs to know of the world.
 struct Search<'a> {
     bodies: &'a [Body],
@@ -651,7 +573,7 @@ impl Contacts {
         // are kept apart by their particles and triangles alone).
         let open = |b: &Body| b.contact.collide && !b.closed && !b.faces.is_empty();
         scratch.collect(bodies, position, reach, bodies.iter().any(open));
-        links.build(bodies, springs, position.len());
+        links.build(bodies, springs, position.len(), settings.thickness);
         let search = Search {
             bodies,
             position,

@@ -55,6 +55,7 @@ pub mod inside;
 mod detect;
 mod force;
 mod friction;
+mod links;
 mod pairs;
 mod state;
 
@@ -148,7 +149,7 @@ pub struct Contacts {
     pub pairs: ContactPairs,
     scratch: detect::Scratch,
     found: detect::Found,
-    links: detect::Links,
+    links: links::Links,
     /// The touches friction acts on, measured before it acts.
     touches: pairs::Touches,
 }
