@@ -130,12 +130,14 @@ impl Scratch {
         {
             return false;
         }
-        let moved = position
-            .iter()
-            .zip(&self.searched_at)
-            .map(|(x, x0)| x.distance_squared(*x0))
-            .fold(0.0, Real::max)
-            .sqrt();
+        let moved = parallel::max(position.len(), |range| {
+            position[range.clone()]
+                .iter()
+                .zip(&self.searched_at[range])
+                .map(|(x, x0)| x.distance_squared(*x0))
+                .fold(0.0, Real::max)
+        })
+        .sqrt();
         2.0 * moved + closing <= self.searched_margin
     }
 
@@ -507,6 +509,26 @@ impl Search<'_> {
     }
 }
 
+/// The particles of colliding bodies, as runs of consecutive bodies'
+/// particles.
+fn colliding_runs(bodies: &[Body]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+    let mut index = 0;
+    std::iter::from_fn(move || {
+        let collides = |b: &Body| b.contact.collide && !b.particles.is_empty();
+        let first = index + bodies[index..].iter().position(collides)?;
+        let mut run = bodies[first].particles.clone();
+        index = first + 1;
+        while index < bodies.len()
+            && collides(&bodies[index])
+            && bodies[index].particles.start == run.end
+        {
+            run.end = bodies[index].particles.end;
+            index += 1;
+        }
+        Some(run)
+    })
+}
+
 /// The most distance (in contact thicknesses) two particles are searched
 /// for closing in one step.
 const MAX_CLOSING: Real = 4.0;
@@ -540,12 +562,17 @@ impl Contacts {
             self.scratch.searched_at.clear();
             return;
         }
-        let speed = bodies
-            .iter()
-            .filter(|b| b.contact.collide)
-            .flat_map(|b| velocity[b.particles.clone()].iter())
-            .map(|v| v.length())
+        let speed = colliding_runs(bodies)
+            .map(|run| {
+                parallel::max(run.len(), |range| {
+                    velocity[run.start + range.start..run.start + range.end]
+                        .iter()
+                        .map(|v| v.length_squared())
+                        .fold(0.0, Real::max)
+                })
+            })
             .fold(0.0, Real::max)
+            .sqrt()
             .min(1e6);
         // Beyond a few thicknesses a step, contact cannot catch a particle
         // anyway (its force acts within the thickness); searching further
