@@ -102,6 +102,9 @@ struct Row {
     one_thread: f64,
     /// Seconds per step of the textbook loop, under `--compare`.
     reference: Option<f64>,
+    /// The mean number of candidate contact pairs between bodies over the
+    /// timed steps (contact cases only): the contact stage's work.
+    contact_pairs: Option<f64>,
 }
 
 impl Row {
@@ -235,6 +238,7 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
         let (mut elapsed, mut taken) = (0.0, 0u32);
         let mut allocated: Vec<usize> = Vec::with_capacity(steps as usize + 1024);
         let mut since_restart = 0u32;
+        let mut pairs = 0usize;
         let longest = seconds.max(LONGEST_SECONDS);
         while taken == 0 || ((taken < steps || elapsed < seconds) && elapsed < longest) {
             let before = memory::allocated();
@@ -249,6 +253,7 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
                     since_restart += 1;
                     elapsed += took;
                     allocated.push(memory::allocated() - before);
+                    pairs += world.contacts.pairs.len();
                 }
                 // Blowing up before any step counts (or again at once after
                 // a restart) would never end: the case cannot be timed.
@@ -282,6 +287,7 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
             allocated_per_step: median(&mut allocated),
             one_thread: 0.0,
             reference: None,
+            contact_pairs: (case.group == Group::Contact).then(|| pairs as f64 / f64::from(taken)),
         })
     })
 }
@@ -306,7 +312,7 @@ fn rate(value: Option<f64>) -> String {
 fn print_row(row: &Row, header: bool) {
     if header {
         println!(
-            "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10} {:>12} {:>12} {:>7} {:>9} {:>8} {:>8} {:>8} {:>9}",
+            "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10} {:>12} {:>12} {:>7} {:>9} {:>8} {:>8} {:>8} {:>9} {:>9}",
             "case",
             "integrator",
             "particles",
@@ -320,7 +326,8 @@ fn print_row(row: &Row, header: bool) {
             "peak MB",
             "run MB",
             "alloc/st",
-            "×textbook"
+            "×textbook",
+            "pairs/st"
         );
     }
     let textbook = row.reference.map_or_else(
@@ -328,7 +335,7 @@ fn print_row(row: &Row, header: bool) {
         |r| format!("{:.2}", r / row.seconds_per_step),
     );
     println!(
-        "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10.4} {:>12} {:>12.3e} {:>7.2} {:>9.3} {:>8.1} {:>8.1} {:>8} {:>9}",
+        "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10.4} {:>12} {:>12.3e} {:>7.2} {:>9.3} {:>8.1} {:>8.1} {:>8} {:>9} {:>9}",
         row.name,
         row.integrator.name(),
         row.particles,
@@ -342,7 +349,9 @@ fn print_row(row: &Row, header: bool) {
         row.peak_bytes as f64 / 1e6,
         row.stepping_bytes as f64 / 1e6,
         row.allocated_per_step,
-        textbook
+        textbook,
+        row.contact_pairs
+            .map_or_else(|| "–".into(), |p| format!("{p:.0}"))
     );
 }
 
@@ -351,13 +360,14 @@ fn csv(rows: &[Row]) -> String {
     let mut text = String::from(
         "group,case,integrator,particles,springs,threads,dt,steps,ms_per_step,\
          spring_updates_per_s,particle_updates_per_s,speedup,simulated_s_per_s,\
-         peak_bytes,stepping_bytes,bytes_allocated_per_step,textbook_ms_per_step\n",
+         peak_bytes,stepping_bytes,bytes_allocated_per_step,textbook_ms_per_step,\
+         contact_pairs_per_step\n",
     );
     for row in rows {
         let optional = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:e}"));
         let _ = writeln!(
             text,
-            "{},{},{},{},{},{},{:e},{},{:e},{},{:e},{:e},{:e},{},{},{},{}",
+            "{},{},{},{},{},{},{:e},{},{:e},{},{:e},{:e},{:e},{},{},{},{},{}",
             row.group.name(),
             row.name,
             row.integrator.name(),
@@ -375,6 +385,7 @@ fn csv(rows: &[Row]) -> String {
             row.stepping_bytes,
             row.allocated_per_step,
             optional(row.reference.map(|r| r * 1e3)),
+            optional(row.contact_pairs),
         );
     }
     text
