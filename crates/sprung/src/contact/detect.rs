@@ -249,7 +249,13 @@ impl Scratch {
         let this = &*self;
         let x = |i: u32| position[i as usize];
         let margin = 0.5 * reach;
-        parallel::collect_chunks(bodies.len(), BODY_CHUNK, &mut gathered, |range, out| {
+        // Few particles in all: one piece, on the calling thread.
+        let chunk = if position.len() <= parallel::CHUNK {
+            bodies.len().max(1)
+        } else {
+            BODY_CHUNK
+        };
+        parallel::collect_chunks(bodies.len(), chunk, &mut gathered, |range, out| {
             for index in range {
                 let body = &bodies[index];
                 if !this.considered(index, body) {
@@ -317,11 +323,13 @@ impl Scratch {
         let mut boxes = std::mem::take(&mut self.boxes);
         boxes.clear();
         let list = elements(self);
-        boxes.par_extend(
-            list.par_iter()
-                .with_min_len(QUERY_CHUNK)
-                .map(|(e, _)| bounds(e.iter().map(|&i| position[i as usize]), margin)),
-        );
+        let grown =
+            |(e, _): &([u32; N], u32)| bounds(e.iter().map(|&i| position[i as usize]), margin);
+        if list.len() <= parallel::CHUNK {
+            boxes.extend(list.iter().map(grown));
+        } else {
+            boxes.par_extend(list.par_iter().with_min_len(QUERY_CHUNK).map(grown));
+        }
         let extent = parallel::sum(boxes.len(), |range| {
             boxes[range]
                 .iter()
@@ -428,21 +436,26 @@ impl Search<'_> {
         grid.build((extent + 2.0 * self.reach).max(1e-9), points);
         let built = &*scratch;
         let list = elements(built);
-        parallel::collect_chunks(list.len(), QUERY_CHUNK, chunks, |range, found| {
-            for e in range {
-                let (element, element_body) = list[e];
-                let (low, high) = built.boxes[e];
-                built.grid.query(low, high, |q| {
-                    let particle = built.querying[q as usize];
-                    let p = self.x(particle);
-                    let inside = p.cmpge(low).all() && p.cmple(high).all();
-                    let body = built.body_of[particle as usize];
-                    if inside && self.may_pair(particle, body, element, element_body) {
-                        found.extend(pair(particle, element, element_body));
-                    }
-                });
-            }
-        });
+        parallel::collect_chunks(
+            list.len(),
+            parallel::piece_size(list.len(), QUERY_CHUNK),
+            chunks,
+            |range, found| {
+                for e in range {
+                    let (element, element_body) = list[e];
+                    let (low, high) = built.boxes[e];
+                    built.grid.query(low, high, |q| {
+                        let particle = built.querying[q as usize];
+                        let p = self.x(particle);
+                        let inside = p.cmpge(low).all() && p.cmple(high).all();
+                        let body = built.body_of[particle as usize];
+                        if inside && self.may_pair(particle, body, element, element_body) {
+                            found.extend(pair(particle, element, element_body));
+                        }
+                    });
+                }
+            },
+        );
         by_particle(
             chunks,
             particle_of,
@@ -475,36 +488,41 @@ impl Search<'_> {
         grid.build(extent.max(self.reach).max(1e-9), boxes.iter().copied());
         let built = &*scratch;
         let list = elements(built);
-        parallel::collect_chunks(count, QUERY_CHUNK, chunks, |range, found| {
-            for first in range {
-                if !asks(list[first].1) {
-                    continue;
-                }
-                let (low, high) = built.boxes[first];
-                built.grid.query_once(low, high, |second| {
-                    let second = second as usize;
+        parallel::collect_chunks(
+            count,
+            parallel::piece_size(count, QUERY_CHUNK),
+            chunks,
+            |range, found| {
+                for first in range {
+                    if !asks(list[first].1) {
+                        continue;
+                    }
+                    let (low, high) = built.boxes[first];
                     // Each pair once: from the lower index, unless only the
                     // higher one asks.
-                    let once = second > first || !asks(list[second].1);
-                    if !once || second == first {
-                        return;
-                    }
-                    let (a, b) = (list[first], list[second]);
-                    let own_neighbours = || {
-                        a.1 == b.1
-                            && a.0
-                                .iter()
-                                .any(|&p| b.0.iter().any(|&q| self.links.linked(p, q)))
+                    let once = |second: u32| {
+                        let second = second as usize;
+                        second > first || (second != first && !asks(list[second].1))
                     };
-                    if overlap((low, high), built.boxes[second])
-                        && self.allowed(a.1, b.1)
-                        && !own_neighbours()
-                    {
-                        found.extend(pair(a, b));
-                    }
-                });
-            }
-        });
+                    built.grid.query_once(low, high, once, |second| {
+                        let second = second as usize;
+                        let (a, b) = (list[first], list[second]);
+                        let own_neighbours = || {
+                            a.1 == b.1
+                                && a.0
+                                    .iter()
+                                    .any(|&p| b.0.iter().any(|&q| self.links.linked(p, q)))
+                        };
+                        if overlap((low, high), built.boxes[second])
+                            && self.allowed(a.1, b.1)
+                            && !own_neighbours()
+                        {
+                            found.extend(pair(a, b));
+                        }
+                    });
+                }
+            },
+        );
         out.extend(chunks.iter().flatten().copied());
     }
 }

@@ -120,13 +120,23 @@ impl Grid {
         self.query_cells(low, high, |_, element| visit(element));
     }
 
-    /// Like [`Grid::query`], but each element at most once: in the lowest
-    /// cell (per axis) that it shares with the box `(low, high)` (m), which
-    /// is the first such cell the query visits. The elements come in the
-    /// same order as the first visits of [`Grid::query`].
-    pub fn query_once(&self, low: Vec3, high: Vec3, mut visit: impl FnMut(u32)) {
+    /// Like [`Grid::query`], but only the elements `wanted` says, each at
+    /// most once: in the lowest cell (per axis) that it shares with the box
+    /// `(low, high)` (m), which is the first such cell the query visits.
+    /// The elements come in the same order as the first visits of
+    /// [`Grid::query`].
+    pub fn query_once(
+        &self,
+        low: Vec3,
+        high: Vec3,
+        wanted: impl Fn(u32) -> bool,
+        mut visit: impl FnMut(u32),
+    ) {
         let lo = cell_range(low, high, self.cell).0;
         self.query_cells(low, high, |cell, element| {
+            if !wanted(element) {
+                return;
+            }
             let own = self.lowest[element as usize];
             if (0..3).all(|axis| cell[axis] == lo[axis].max(own[axis])) {
                 visit(element);
@@ -219,7 +229,7 @@ mod tests {
                 }
             });
             let mut once = Vec::new();
-            grid.query_once(query.0, query.1, |e| once.push(e));
+            grid.query_once(query.0, query.1, |_| true, |e| once.push(e));
             assert_eq!(once, first_visits);
         }
     }

@@ -334,13 +334,23 @@ impl Touches {
             }
         }
         let pieces = &self.pieces;
-        parallel::collect_chunks(pieces.len(), 1, &mut self.found, |range, found| {
+        let measure = |range: Range<usize>, found: &mut Vec<Touch>| {
             for (kind, piece) in &pieces[range] {
                 pairs.touches_in(*kind, piece.clone(), position, thickness, &mut |t| {
                     found.push(t)
                 });
             }
-        });
+        };
+        if pairs.len() <= parallel::CHUNK {
+            // Too few to share: on the calling thread, into one buffer.
+            self.found.iter_mut().for_each(Vec::clear);
+            if self.found.is_empty() {
+                self.found.push(Vec::new());
+            }
+            measure(0..pieces.len(), &mut self.found[0]);
+        } else {
+            parallel::collect_chunks(pieces.len(), 1, &mut self.found, measure);
+        }
     }
 
     /// The touches of the last measure, in order.

@@ -189,12 +189,24 @@ pub fn find_first<T: Send>(
         .find_map_first(|c| in_chunk(c * CHUNK..((c + 1) * CHUNK).min(len)))
 }
 
+/// The size of the pieces [`collect_chunks`] should cut `0..len` into:
+/// `chunk`, or all of it (one piece, on the calling thread) up to [`CHUNK`]
+/// indices, where sharing the work costs more than it saves.
+pub fn piece_size(len: usize, chunk: usize) -> usize {
+    if len <= CHUNK {
+        len.max(1)
+    } else {
+        chunk
+    }
+}
+
 /// Call `f(piece, buffer)` on the pieces of `0..len` of at most `chunk`
 /// indices, in parallel, each piece writing into a buffer of its own
 /// (emptied first): `buffers[c]` holds what piece `c` wrote, so reading the
 /// buffers in order gives the same sequence whatever the number of
 /// threads. The buffers are kept for the next call, so once they have
 /// grown nothing is allocated. Buffers past the last piece are left empty.
+/// One piece runs on the calling thread (see [`piece_size`]).
 pub fn collect_chunks<T: Send>(
     len: usize,
     chunk: usize,
