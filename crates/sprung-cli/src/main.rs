@@ -129,7 +129,9 @@ fn main() -> ExitCode {
         return ExitCode::from(1);
     }
     let result = match cli.command {
-        Command::Run { scene, options } => run::run_file(&scene, &options),
+        Command::Run { scene, options } => {
+            sprung::parallel::in_pool(|| run::run_file(&scene, &options))
+        }
         Command::Demo {
             name,
             list,
@@ -139,7 +141,7 @@ fn main() -> ExitCode {
                 demos::list();
                 Ok(())
             } else {
-                demos::run(name.as_deref(), &options)
+                sprung::parallel::in_pool(|| demos::run(name.as_deref(), &options))
             }
         }
         Command::Bench(args) => bench::run(&args),

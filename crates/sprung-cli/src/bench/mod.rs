@@ -154,7 +154,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     println!("{}", machine(&one_pool, &all_pool, args.quick));
     if args.demos {
         let least = if args.quick { 0.0 } else { seconds.max(1.0) };
-        return demos::run(steps, least);
+        return all_pool.install(|| demos::run(steps, least));
     }
     let sizes = if args.quick {
         vec![8, 16]

@@ -139,6 +139,15 @@ pub fn with_threads<R: Send>(
     Ok(Pool::new(threads)?.install(f))
 }
 
+/// Run `job` on a thread of the current pool (the caller waits for it), so
+/// that the engine's parallel loops inside it start from the pool itself
+/// instead of each being handed over from an outside thread, which waits
+/// for it (a few microseconds a loop). A job already on the pool runs at
+/// once.
+pub fn in_pool<R: Send>(job: impl FnOnce() -> R + Send) -> R {
+    rayon::join(job, || ()).0
+}
+
 /// The threads the engine's loops run on here (the current pool's).
 pub fn threads() -> usize {
     rayon::current_num_threads()
