@@ -208,3 +208,52 @@ fn friction_holds_a_block_on_a_tilted_body_below_the_friction_angle() {
     let slid = slide_on_tilted_body(20.0, 0.3);
     assert!(slid > 1.0, "20° with μ = 0.3: moved only {slid} m");
 }
+
+#[test]
+fn a_cloth_lands_on_a_body_of_two_huge_triangles_anywhere_on_it() {
+    // The ground is a pinned 10 m square of two triangles; a 0.5 m cloth of
+    // 20 × 20 particles falls onto it 4 m from its corner. The grid's
+    // cells are sized from the average element (the cloth's), so each
+    // ground triangle spans far more cells than a query visits; the
+    // search must still find the cloth's particles under it. Claim: no
+    // particle of the cloth goes below the ground by more than the
+    // contact thickness, and the cloth comes to rest on it.
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    let ground = build::cloth(2, 2, 10.0, 10.0, ClothSprings::default())
+        .expect("valid cloth")
+        .with_mass(1.0)
+        .with_pinned(vec![0, 1, 2, 3])
+        .placed(1.0, Vec3::new(90.0, 0.0, 0.0), Vec3::ZERO);
+    world.add_body("ground", ground).expect("valid body");
+    let cloth = build::cloth(20, 20, 0.5, 0.5, ClothSprings::default())
+        .expect("valid cloth")
+        .with_total_mass(0.1)
+        .with_stiffness(200.0)
+        .with_damping(0.05)
+        .placed(1.0, Vec3::new(90.0, 0.0, 0.0), Vec3::new(4.0, 0.05, 4.0));
+    world.add_body("cloth", cloth).expect("valid body");
+    // The ground lies in y = 0 (to rounding of the turn) with x and z in
+    // [0, 10], under the cloth.
+    let ground_y = world.particles.position[0].y;
+    assert!(world.particles.position[..4]
+        .iter()
+        .all(|p| (p.y - ground_y).abs() < 1e-12 && p.x >= 0.0 && p.z >= 0.0));
+    let thickness = world.contacts.settings.thickness;
+    let dt = 2e-4;
+    for _ in 0..5000 {
+        world.step(dt).expect("stable");
+        let lowest = world.particles.position[4..]
+            .iter()
+            .map(|p| p.y)
+            .fold(Real::INFINITY, Real::min);
+        assert!(
+            lowest > ground_y - thickness,
+            "the cloth went through the ground: {lowest} m"
+        );
+    }
+    let speed = world.particles.velocity[4..]
+        .iter()
+        .map(|v| v.length())
+        .fold(0.0, Real::max);
+    assert!(speed < 0.05, "still moving at {speed} m/s");
+}

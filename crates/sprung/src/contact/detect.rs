@@ -264,9 +264,12 @@ impl Scratch {
                 let index = index as u32;
                 let touches = |low: Vec3, high: Vec3| this.may_touch(bodies, index, low, high);
                 let loose = body.faces.is_empty() && body.segments.is_empty();
+                // A particle, like an element, within the reach of another
+                // body's box: its own box grown by half the reach.
+                let grown = Vec3::splat(margin);
                 for i in body.particles.clone() {
                     let p = position[i];
-                    if touches(p, p) {
+                    if touches(p - grown, p + grown) {
                         out.push((Gathered::Querying(i as u32), index));
                         if loose {
                             out.push((Gathered::Loose(i as u32), index));
@@ -444,7 +447,7 @@ impl Search<'_> {
                 for e in range {
                     let (element, element_body) = list[e];
                     let (low, high) = built.boxes[e];
-                    built.grid.query(low, high, |q| {
+                    let visit = |q: u32| {
                         let particle = built.querying[q as usize];
                         let p = self.x(particle);
                         let inside = p.cmpge(low).all() && p.cmple(high).all();
@@ -452,7 +455,15 @@ impl Search<'_> {
                         if inside && self.may_pair(particle, body, element, element_body) {
                             found.extend(pair(particle, element, element_body));
                         }
-                    });
+                    };
+                    // An element far larger than the cells (a ground of two
+                    // triangles under a fine cloth) covers more cells than a
+                    // query visits: it looks at every particle instead.
+                    if built.grid.capped(low, high) {
+                        (0..built.querying.len() as u32).for_each(visit);
+                    } else {
+                        built.grid.query(low, high, visit);
+                    }
                 }
             },
         );

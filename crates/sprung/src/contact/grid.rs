@@ -10,9 +10,10 @@
 
 use crate::{Real, Vec3};
 
-/// Most cells one box may cover along an axis: a larger box is entered in
-/// this many (its candidates are still found, through the cells it covers
-/// in the middle of its range it is only less selective).
+/// Most cells one box may cover along an axis: a larger box is entered in,
+/// and queries, only the first this many, so the elements beyond them are
+/// not found through it ([`Grid::capped`] tells when; a caller that must
+/// find them looks at every element instead).
 const MAX_CELLS_PER_AXIS: i64 = 16;
 
 /// A uniform grid over boxes, hashed into compressed rows.
@@ -142,6 +143,15 @@ impl Grid {
                 visit(element);
             }
         });
+    }
+
+    /// Whether the box `(low, high)` (m) spans more cells along an axis than
+    /// one query visits (see [`MAX_CELLS_PER_AXIS`]).
+    pub fn capped(&self, low: Vec3, high: Vec3) -> bool {
+        let (low, high) = (low.to_array(), high.to_array());
+        (0..3).any(|axis| {
+            cell_of(high[axis], self.cell) - cell_of(low[axis], self.cell) >= MAX_CELLS_PER_AXIS
+        })
     }
 
     /// Call `visit(cell, element)` for each element entered in a cell of

@@ -13,7 +13,9 @@
 //! springs (and every particle would pair with every triangle around it).
 //! The radius is about the thickness, so a fold whose layers come within
 //! the thickness of each other is still caught away from its crease, which
-//! the bending springs hold.
+//! the bending springs hold. A particle has at most [`MOST_NEAR`] near
+//! particles (the nearest): a thickness of many particle spacings leaves
+//! the farther ones of its radius colliding.
 
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashSet};
@@ -22,15 +24,34 @@ use crate::body::{Body, BodyContact};
 use crate::springs::Springs;
 use crate::Real;
 
+/// Most particles near one particle: a thickness so large that the
+/// radius covers more stops there (the nearest ones are left out), so the
+/// lists cannot grow as the square of a body's particles.
+const MOST_NEAR: usize = 256;
+
 /// Per particle of a self-colliding body, the particles near it in the
 /// mesh (sorted), in compressed rows.
 #[derive(Debug, Clone, Default)]
 pub(super) struct Links {
-    start: Vec<u32>,
+    start: Vec<usize>,
     list: Vec<u32>,
     /// What they were built from: the springs' topology, the particles,
-    /// the bodies' flags, the contact thickness (m).
-    built_for: Option<(u64, usize, Vec<BodyContact>, Real)>,
+    /// the bodies' flags, the contact thickness (m), and the rest lengths
+    /// of the self-colliding bodies' springs (their bits, folded), which
+    /// muscles change.
+    built_for: Option<(u64, usize, Vec<BodyContact>, Real, u64)>,
+}
+
+/// The bits of the rest lengths of the self-colliding bodies' springs,
+/// folded into one number (FNV-1a).
+fn rest_lengths_key(bodies: &[Body], springs: &Springs) -> u64 {
+    bodies
+        .iter()
+        .filter(|b| b.contact.collide && b.contact.self_collision)
+        .flat_map(|b| springs.rest_length[b.springs.clone()].iter())
+        .fold(0xcbf2_9ce4_8422_2325, |key, length| {
+            (key ^ length.to_bits()).wrapping_mul(0x0000_0100_0000_01b3)
+        })
 }
 
 impl Links {
@@ -43,15 +64,17 @@ impl Links {
         particles: usize,
         thickness: Real,
     ) {
-        let unchanged = self
-            .built_for
-            .as_ref()
-            .is_some_and(|(topology, count, flags, h)| {
-                *topology == springs.topology()
-                    && *count == particles
-                    && *h == thickness
-                    && flags.iter().eq(bodies.iter().map(|b| &b.contact))
-            });
+        let rest = rest_lengths_key(bodies, springs);
+        let unchanged =
+            self.built_for
+                .as_ref()
+                .is_some_and(|(topology, count, flags, h, lengths)| {
+                    *topology == springs.topology()
+                        && *count == particles
+                        && *h == thickness
+                        && *lengths == rest
+                        && flags.iter().eq(bodies.iter().map(|b| &b.contact))
+                });
         if unchanged {
             return;
         }
@@ -60,6 +83,7 @@ impl Links {
             particles,
             bodies.iter().map(|b| b.contact).collect(),
             thickness,
+            rest,
         ));
         self.start.clear();
         self.start.resize(particles + 1, 0);
@@ -83,7 +107,7 @@ impl Links {
                 self.list[from..].sort_unstable();
                 let kept = dedup_sorted(&mut self.list[from..]);
                 self.list.truncate(from + kept);
-                self.start[body.particles.start + local + 1] = (self.list.len() - from) as u32;
+                self.start[body.particles.start + local + 1] = self.list.len() - from;
             }
         }
         for i in 0..particles {
@@ -95,7 +119,7 @@ impl Links {
     pub(super) fn linked(&self, a: u32, b: u32) -> bool {
         a == b
             || self.start.get(a as usize + 1).is_some_and(|&end| {
-                self.list[self.start[a as usize] as usize..end as usize]
+                self.list[self.start[a as usize]..end]
                     .binary_search(&b)
                     .is_ok()
             })
@@ -160,7 +184,13 @@ impl Graph {
             body.springs
                 .clone()
                 .filter(move |&s| inside(first[s]) && inside(second[s]))
-                .map(move |s| (first[s] - base, second[s] - base, springs.rest_length[s]))
+                // Lengths that are not positive (or not numbers) count as
+                // zero, so the search never goes round a shortening loop.
+                .map(move |s| {
+                    let rest = springs.rest_length[s];
+                    let rest = if rest > 0.0 { rest } else { 0.0 };
+                    (first[s] - base, second[s] - base, rest)
+                })
         };
         self.start.clear();
         self.start.resize(n + 1, 0);
@@ -200,7 +230,8 @@ struct Nearest {
 
 impl Nearest {
     /// Call `near` with every particle other than `from` within `radius`
-    /// (m) of it along the graph's springs.
+    /// (m) of it along the graph's springs, nearest first, and at most
+    /// [`MOST_NEAR`] of them.
     fn within(&mut self, graph: &Graph, from: u32, radius: Real, mut near: impl FnMut(u32)) {
         let n = graph.start.len().saturating_sub(1);
         if self.reached.len() != n {
@@ -215,13 +246,18 @@ impl Nearest {
         self.heap.clear();
         self.reached[from as usize] = (stamp, 0.0);
         self.heap.push(Reverse((key(0.0), from)));
+        let mut found = 0;
         while let Some(Reverse((bits, i))) = self.heap.pop() {
             let distance = Real::from_bits(bits);
             if distance > self.reached[i as usize].1 {
                 continue;
             }
             if i != from {
+                if found == MOST_NEAR {
+                    break;
+                }
                 near(i);
+                found += 1;
             }
             for &(j, rest) in graph.neighbours(i) {
                 let through = distance + rest;
@@ -287,6 +323,30 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_huge_thickness_keeps_the_lists_short_and_rest_lengths_rebuild_them() {
+        let mut world = cloth(41);
+        let n = world.particles.len();
+        let mut links = Links::default();
+        links.build(&world.bodies, &world.springs, n, 100.0);
+        // Each particle: its MOST_NEAR nearest, plus those joined by a
+        // spring (12 at most in the builder's cloth).
+        for i in 0..n {
+            assert!(links.start[i + 1] - links.start[i] <= MOST_NEAR + 12);
+        }
+        // A changed rest length (a muscle's) is seen: the lists are built
+        // again from the new lengths (springs a third as long, against the
+        // same thickness: more particles within the radius).
+        links.build(&world.bodies, &world.springs, n, 0.01);
+        let near = |links: &Links| links.list.len();
+        let before = near(&links);
+        for rest in &mut world.springs.rest_length {
+            *rest /= 3.0;
+        }
+        links.build(&world.bodies, &world.springs, n, 0.01);
+        assert!(near(&links) > before);
     }
 
     #[test]

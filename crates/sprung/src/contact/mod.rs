@@ -32,7 +32,10 @@
 //! the number of elements, every pair of elements within the thickness
 //! plus a margin covering the step's motion (the *reach*), and keeps them
 //! as candidate pairs ([`ContactPairs`]): a pair is a candidate when it
-//! would touch if the thickness were the reach. The particles that may
+//! would touch if the thickness were the reach. (A particle that got
+//! through a closed surface, behind an element but not over its inside,
+//! is no candidate of that element: if it then slides over that
+//! element's inside, it is pushed out from the next search on.) The particles that may
 //! meet another body go into the grid, one cell each, and each surface
 //! element asks it for the particles within reach of its box; edges and
 //! loose particles are found among themselves. The search runs in parallel
