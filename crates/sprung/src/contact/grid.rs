@@ -146,7 +146,7 @@ impl Grid {
     }
 
     /// Whether the box `(low, high)` (m) spans more cells along an axis than
-    /// one query visits (see [`MAX_CELLS_PER_AXIS`]).
+    /// one query visits (16).
     pub fn capped(&self, low: Vec3, high: Vec3) -> bool {
         let (low, high) = (low.to_array(), high.to_array());
         (0..3).any(|axis| {
