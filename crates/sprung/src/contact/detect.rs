@@ -35,6 +35,11 @@ pub(super) struct Scratch {
     /// Per body, its bounding box grown by half the reach (colliding
     /// bodies only).
     body_box: Vec<(Vec3, Vec3)>,
+    /// Per body, the centre of its box and the radius (m) of the ball
+    /// about it that holds its particles, plus the reach: what comes
+    /// within reach of the body meets that ball (tighter than the box for
+    /// a round body, whose box corners are far from it).
+    body_ball: Vec<(Vec3, Real)>,
     /// Per body, the bodies whose boxes overlap its own:
     /// `near[near_start[b]..near_start[b + 1]]`.
     near_start: Vec<u32>,
@@ -175,10 +180,13 @@ impl Scratch {
     /// it collides with itself).
     fn may_touch(&self, bodies: &[Body], b: u32, low: Vec3, high: Vec3) -> bool {
         bodies[b as usize].contact.self_collision
-            || self
-                .near(b)
-                .iter()
-                .any(|&other| overlap((low, high), self.body_box[other as usize]))
+            || self.near(b).iter().any(|&other| {
+                let (centre, radius) = self.body_ball[other as usize];
+                // The box's nearest point to the ball's centre.
+                let nearest = centre.max(low).min(high);
+                overlap((low, high), self.body_box[other as usize])
+                    && nearest.distance_squared(centre) < radius * radius
+            })
     }
 
     /// The broad phase between bodies: each colliding body's box (grown by
@@ -194,6 +202,23 @@ impl Scratch {
                 (Vec3::splat(Real::INFINITY), Vec3::splat(Real::NEG_INFINITY))
             }
         }));
+        self.body_ball.clear();
+        for (b, &(low, high)) in bodies.iter().zip(&self.body_box) {
+            let centre = 0.5 * (low + high);
+            let run = b.particles.clone();
+            let radius = if colliding(b) {
+                parallel::max(run.len(), |range| {
+                    position[run.start + range.start..run.start + range.end]
+                        .iter()
+                        .map(|x| x.distance_squared(centre))
+                        .fold(0.0, Real::max)
+                })
+                .sqrt()
+            } else {
+                0.0
+            };
+            self.body_ball.push((centre, radius + reach));
+        }
         let extent = self
             .body_box
             .iter()
