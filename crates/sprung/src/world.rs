@@ -626,6 +626,29 @@ impl World {
     fn guard(&self, dt: Real) -> Result<(), StepError> {
         let limits = &self.settings;
         let particles = &self.particles;
+        // First a branch-free scan the compiler vectorises: a NaN fails
+        // both comparisons, and an infinite coordinate fails them because
+        // the limits' squares are held below infinity. Only a state that
+        // fails it is searched for the first particle at fault and why.
+        let distance_squared = limits.max_distance.powi(2).min(Real::MAX);
+        let speed_squared = limits.max_speed.powi(2).min(Real::MAX);
+        let outside = parallel::max(particles.len(), |range| {
+            let x = &particles.position[range.clone()];
+            let v = &particles.velocity[range];
+            let within = x.iter().zip(v).fold(true, |within, (x, v)| {
+                within
+                    & (x.length_squared() <= distance_squared)
+                    & (v.length_squared() <= speed_squared)
+            });
+            if within {
+                0.0
+            } else {
+                1.0
+            }
+        });
+        if outside == 0.0 {
+            return Ok(());
+        }
         let bad = parallel::find_first(particles.len(), |i| {
             let (x, v) = (particles.position[i], particles.velocity[i]);
             if !(x.is_finite() && v.is_finite()) {

@@ -252,3 +252,62 @@ fn a_runaway_at_the_edge_of_the_numbers_is_reported_without_inf() {
     assert!(message.contains("ran away at 1.414e308 m/s"), "{message}");
     assert!(!message.contains("inf"), "{message}");
 }
+
+/// A change that puts particle `i` of a world out of bounds.
+type Spoil = fn(&mut World, usize);
+
+#[test]
+fn the_guard_names_the_first_particle_out_of_bounds_and_why() {
+    // A free rope without gravity at rest, one particle set out of bounds
+    // after the step's integration cannot bring it back: a velocity at
+    // 2x the speed limit stays above it (the springs' pull over one tiny
+    // step is far smaller), a position at 2x the distance limit stays
+    // beyond it, and a NaN or an infinity stays non-finite.
+    let dt = 1e-9; // s
+    let cases: [(usize, Spoil, &str); 4] = [
+        (
+            7,
+            (|w, i| w.particles.velocity[i].x = 2.0 * w.settings.max_speed),
+            "too fast",
+        ),
+        (
+            FREE,
+            (|w, i| w.particles.position[i].y = -2.0 * w.settings.max_distance),
+            "too far",
+        ),
+        (3, (|w, i| w.particles.velocity[i].z = Real::NAN), "NaN"),
+        (
+            12,
+            (|w, i| w.particles.position[i].x = Real::INFINITY),
+            "infinite",
+        ),
+    ];
+    for (particle, spoil, what) in cases {
+        let mut world = stiff_rope(IntegratorKind::SymplecticEuler, Vec3::ZERO);
+        spoil(&mut world, particle);
+        let error = world.step(dt).expect_err(what);
+        let StepError::BlowUp {
+            particle: reported,
+            reason,
+            ..
+        } = error
+        else {
+            panic!("{what}: expected a blow-up, got {error:?}");
+        };
+        // A NaN or an infinity spreads to the neighbours through their
+        // springs within the step, so the first particle at fault is the
+        // lower neighbour; the finite cases stay on their own particle.
+        let first = if matches!(what, "NaN" | "infinite") {
+            particle - 1
+        } else {
+            particle
+        };
+        assert_eq!(reported, first, "{what}");
+        match (what, reason) {
+            ("too fast", BlowUpReason::TooFast(v)) => assert!(v > world.settings.max_speed),
+            ("too far", BlowUpReason::TooFar(d)) => assert!(d > world.settings.max_distance),
+            ("NaN" | "infinite", BlowUpReason::NonFinite) => {}
+            (_, reason) => panic!("{what}: reason {reason:?}"),
+        }
+    }
+}

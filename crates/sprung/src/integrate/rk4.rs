@@ -7,13 +7,13 @@ use crate::error::SolverError;
 use crate::parallel;
 use crate::{Real, Vec3};
 
-/// RK4 with its stage buffers: the trial state, the stage acceleration and
+/// RK4 with its stage buffers: the trial state, the stage force and
 /// the running weighted sums of the stage derivatives.
 #[derive(Debug, Default)]
 pub struct RungeKutta4 {
     trial_position: Vec<Vec3>,
     trial_velocity: Vec<Vec3>,
-    acceleration: Vec<Vec3>,
+    stage_force: Vec<Vec3>,
     sum_velocity: Vec<Vec3>,
     sum_acceleration: Vec<Vec3>,
 }
@@ -36,7 +36,7 @@ impl Integrator for RungeKutta4 {
         for buffer in [
             &mut self.trial_position,
             &mut self.trial_velocity,
-            &mut self.acceleration,
+            &mut self.stage_force,
             &mut self.sum_velocity,
             &mut self.sum_acceleration,
         ] {
@@ -55,13 +55,16 @@ impl Integrator for RungeKutta4 {
             (1.0, 1.0, 0.0),
         ];
         for (time_offset, weight, next_offset) in stages {
-            system.acceleration(
+            // The force, turned into the acceleration `f / m` in the pass
+            // below (as `Derivative::acceleration` would, a pass earlier).
+            system.force(
                 time + time_offset * dt,
                 &self.trial_position,
                 &self.trial_velocity,
-                &mut self.acceleration,
+                &mut self.stage_force,
             );
-            let (x, v, a) = (&*position, &*velocity, &self.acceleration);
+            let (x, v, f) = (&*position, &*velocity, &self.stage_force);
+            let inverse_mass = system.inverse_mass();
             let buffers = (
                 &mut self.sum_velocity[..],
                 &mut self.sum_acceleration[..],
@@ -71,7 +74,7 @@ impl Integrator for RungeKutta4 {
             parallel::for_each_span(buffers, |start, (sum_v, sum_a, trial_x, trial_v)| {
                 for k in 0..sum_v.len() {
                     let i = start + k;
-                    let (stage_velocity, stage_acceleration) = (trial_v[k], a[i]);
+                    let (stage_velocity, stage_acceleration) = (trial_v[k], f[i] * inverse_mass[i]);
                     sum_v[k] += weight * stage_velocity;
                     sum_a[k] += weight * stage_acceleration;
                     trial_x[k] = x[i] + next_offset * dt * stage_velocity;

@@ -6,10 +6,11 @@ use crate::error::SolverError;
 use crate::parallel;
 use crate::{Real, Vec3};
 
-/// Symplectic Euler with its acceleration buffer.
+/// Symplectic Euler with its force buffer.
 #[derive(Debug, Default)]
 pub struct SymplecticEuler {
-    acceleration: Vec<Vec3>,
+    /// The force at the start of the step (N).
+    force: Vec<Vec3>,
 }
 
 impl Integrator for SymplecticEuler {
@@ -26,12 +27,18 @@ impl Integrator for SymplecticEuler {
         system: &mut dyn Derivative,
         _solver: &SolverSettings,
     ) -> Result<StepReport, SolverError> {
-        fit(&mut self.acceleration, position.len());
-        system.acceleration(time, position, velocity, &mut self.acceleration);
-        let acceleration = &self.acceleration;
+        fit(&mut self.force, position.len());
+        system.force(time, position, velocity, &mut self.force);
+        // `a = f / m` is taken in the same pass as the update, rather than
+        // in a pass of its own (`Derivative::acceleration`): the same
+        // products, one pass over the particles fewer.
+        let (force, inverse_mass) = (&self.force, system.inverse_mass());
         parallel::for_each_span((position, velocity), |start, (x, v)| {
-            for ((x, v), a) in x.iter_mut().zip(v).zip(&acceleration[start..]) {
-                *v += *a * dt;
+            let particles = x.iter_mut().zip(v);
+            for ((x, v), (&f, &w)) in
+                particles.zip(force[start..].iter().zip(&inverse_mass[start..]))
+            {
+                *v += f * w * dt;
                 *x += *v * dt;
             }
         });

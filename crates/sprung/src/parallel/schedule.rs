@@ -48,6 +48,9 @@ pub struct Schedule<const W: usize> {
     blocks: Vec<Range<usize>>,
     /// Each phase's blocks (a range of `blocks`).
     phases: Vec<Range<usize>>,
+    /// One more than the highest particle of any element (0 for none): the
+    /// shortest slice the blocks may add into.
+    reach: usize,
 }
 
 /// Elements per block of a colour: a colour of a mesh of some ten
@@ -66,6 +69,7 @@ impl<const W: usize> Default for Schedule<W> {
             element: Vec::new(),
             blocks: Vec::new(),
             phases: Vec::new(),
+            reach: 0,
         }
     }
 }
@@ -151,6 +155,12 @@ impl<const W: usize> Schedule<W> {
         order: Vec<usize>,
         phases: Vec<Range<usize>>,
     ) -> Self {
+        let reach = members
+            .iter()
+            .flatten()
+            .map(|&p| p as usize + 1)
+            .max()
+            .unwrap_or(0);
         let keys = order.len();
         let mut starts = vec![0usize; keys + 1];
         key.iter().for_each(|&k| starts[k + 1] += 1);
@@ -164,6 +174,7 @@ impl<const W: usize> Schedule<W> {
                 element: Vec::new(),
                 blocks,
                 phases,
+                reach,
             };
         }
         let mut fill = starts;
@@ -180,6 +191,7 @@ impl<const W: usize> Schedule<W> {
             element,
             blocks,
             phases,
+            reach,
         }
     }
 
@@ -218,11 +230,10 @@ impl<const W: usize> Schedule<W> {
         out: &mut [T],
         f: impl Fn(Block<'_, T, W>) + Sync,
     ) {
+        // Checked once here rather than at each addition: `members` is
+        // private and never changed after `new`, which measured `reach`.
         assert!(
-            self.members
-                .iter()
-                .flatten()
-                .all(|&p| (p as usize) < out.len()),
+            self.reach <= out.len(),
             "a scheduled element's particle is beyond the slice"
         );
         let shared = Disjoint {
