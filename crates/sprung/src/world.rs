@@ -34,7 +34,7 @@ use crate::integrate::{Derivative, Integrator, IntegratorKind, SolverSettings, S
 use crate::measure::{self, Energies};
 use crate::parallel;
 use crate::particles::Particles;
-use crate::springs::Springs;
+use crate::springs::{self, Springs};
 use crate::state::{StateError, WorldState};
 use crate::surface;
 use crate::{Real, Vec3};
@@ -270,14 +270,15 @@ impl World {
         }
         let first_spring = self.springs.len();
         let index = |i: usize| (offset + i) as u32;
-        // Stored by lowest particle (then highest): the order the force
-        // threads take them in (`parallel::Schedule`), streaming through
-        // neighbouring particles.
-        let mut order: Vec<usize> = (0..data.springs.len()).collect();
-        order.sort_by_key(|&k| {
-            let s = &data.springs[k];
-            (s.first.min(s.second), s.first.max(s.second))
-        });
+        // Runs of springs stepping along the particles first, then the rest
+        // by lowest particle: the orders the force reads fastest
+        // (`springs::storage_order`).
+        let ends: Vec<[u32; 2]> = data
+            .springs
+            .iter()
+            .map(|s| [s.first as u32, s.second as u32])
+            .collect();
+        let order = springs::storage_order(&ends);
         // Where each spring of the data went (for the muscles).
         let mut stored = vec![0; order.len()];
         for (place, &k) in order.iter().enumerate() {

@@ -27,7 +27,9 @@ use rayon::prelude::*;
 
 use crate::Real;
 
-pub use schedule::{Block, Elements, Schedule, ScheduleCache, Writer, COLOUR_BLOCK, MIN_BLOCKS};
+pub use schedule::{
+    Block, Elements, Schedule, ScheduleCache, Writer, COLOUR_BLOCK, MAX_RUN, MIN_BLOCKS,
+};
 
 /// The number of elements a thread takes at a time, and the chunk of the
 /// fixed-order sums.

@@ -51,7 +51,14 @@ pub struct Schedule<const W: usize> {
     /// One more than the highest particle of any element (0 for none): the
     /// shortest slice the blocks may add into.
     reach: usize,
+    /// Per element in schedule order, how many elements from it on (itself
+    /// included, within its block, at most [`MAX_RUN`]) form a *run*: each
+    /// one's particles and own index one more than the last's.
+    run: Vec<u8>,
 }
+
+/// The longest run [`Block::run`] reports.
+pub const MAX_RUN: usize = u8::MAX as usize;
 
 /// Elements per block of a colour: a colour of a mesh of some ten
 /// thousand vertices holds a few thousand elements, cut small enough to
@@ -70,6 +77,7 @@ impl<const W: usize> Default for Schedule<W> {
             blocks: Vec::new(),
             phases: Vec::new(),
             reach: 0,
+            run: Vec::new(),
         }
     }
 }
@@ -175,7 +183,9 @@ impl<const W: usize> Schedule<W> {
                 blocks,
                 phases,
                 reach,
-            };
+                run: Vec::new(),
+            }
+            .with_runs();
         }
         let mut fill = starts;
         let mut sorted = vec![[0u32; W]; members.len()];
@@ -192,7 +202,30 @@ impl<const W: usize> Schedule<W> {
             blocks,
             phases,
             reach,
+            run: Vec::new(),
         }
+        .with_runs()
+    }
+
+    /// Measure the runs (see `run`), block by block, from the last element
+    /// back.
+    fn with_runs(mut self) -> Self {
+        let mut run = vec![1u8; self.members.len()];
+        for block in &self.blocks {
+            for e in block.clone().rev().skip(1) {
+                let (this, next) = (self.members[e], self.members[e + 1]);
+                let steps = this
+                    .iter()
+                    .zip(&next)
+                    .all(|(&a, &b)| b == a.wrapping_add(1));
+                let index = |e: usize| self.element.get(e).map_or(e, |&i| i as usize);
+                if steps && index(e + 1) == index(e) + 1 {
+                    run[e] = run[e + 1].saturating_add(1);
+                }
+            }
+        }
+        self.run = run;
+        self
     }
 
     /// Number of elements.
@@ -246,6 +279,7 @@ impl<const W: usize> Schedule<W> {
                 members: &self.members[range.clone()],
                 element: self.element.get(range.clone()),
                 first: range.start,
+                run: &self.run[range.clone()],
                 shared: &shared,
             });
         };
@@ -290,6 +324,8 @@ pub struct Block<'a, T, const W: usize> {
     element: Option<&'a [u32]>,
     /// The first element's index, when they are in order.
     first: usize,
+    /// The elements' runs (`Schedule::run`).
+    run: &'a [u8],
     shared: &'a Disjoint<'a, T>,
 }
 
@@ -319,6 +355,13 @@ impl<T: Copy + AddAssign, const W: usize> Block<'_, T, W> {
         }
     }
 
+    /// How many of the block's elements from its `e`-th on (at most
+    /// [`MAX_RUN`]) form a run: each one's particles, and its index among
+    /// all the elements, one more than the last's.
+    pub fn run(&self, e: usize) -> usize {
+        usize::from(self.run[e])
+    }
+
     /// The index (among all the elements) of the block's `e`-th element.
     pub fn element(&self, e: usize) -> usize {
         self.element
@@ -335,6 +378,41 @@ impl<T: Copy + AddAssign, const W: usize> Block<'_, T, W> {
         // this block's writes it while this block runs (see the `Sync` impl
         // of `Disjoint`).
         unsafe { *self.shared.pointer.add(index) += value };
+    }
+}
+
+impl<T: Copy + AddAssign, const W: usize> Block<'_, T, W> {
+    /// Add `value(m)` to the entry of the `k`-th particle of the block's
+    /// element `e + m`, for `m < count`, where those particles follow each
+    /// other: elements `e..e + count` are a run ([`Block::run`], checked).
+    /// One pass over neighbouring entries, which the compiler vectorises.
+    ///
+    /// # Panics
+    /// If the elements are not a run.
+    #[allow(unsafe_code)]
+    #[inline(always)]
+    pub fn add_run(&self, e: usize, k: usize, count: usize, value: impl Fn(usize) -> T) {
+        if count == 0 {
+            return;
+        }
+        assert!(
+            count <= self.run(e),
+            "elements {e}..{} of a block are not a run",
+            e + count
+        );
+        let start = self.members[e][k] as usize;
+        // SAFETY: particles `start..start + count` are the `k`-th particles
+        // of this block's elements `e..e + count` (a run, checked above:
+        // `with_runs` measured it on the very members), within
+        // the slice and written by no other thread while this block runs,
+        // as for `add`. They are written through the raw pointer, one at a
+        // time, so a `value` that also adds into the block is no harm.
+        unsafe {
+            let entries = self.shared.pointer.add(start);
+            for m in 0..count {
+                *entries.add(m) += value(m);
+            }
+        }
     }
 }
 

@@ -1,7 +1,20 @@
 //! The springs' force a batch at a time: gather each spring's extension
 //! and relative velocity, compute the pulls of the whole batch in one
-//! loop the compiler vectorises (for the widest vector unit the processor
-//! has, chosen at run time), then add them into the particles in order.
+//! loop the compiler vectorises, then add them into the particles in order.
+//! The whole kernel is compiled for the widest vector unit the processor
+//! has, chosen at run time (`multiversion`).
+//!
+//! Two kinds of batch:
+//!
+//! - **runs** (`springs::storage_order` stores them first): springs whose
+//!   particles both step by one from spring to spring. Their particles are
+//!   read as contiguous slices and their pulls added back the same way
+//!   (`Block::add_run`), every loop vectorised: a builder's cloth, lattice
+//!   and rope are almost all runs.
+//! - **scattered** springs, any others: each spring's particles are
+//!   gathered one by one, and the pulls on the springs' first particles
+//!   (stored by lowest particle, a particle is usually the first of
+//!   several springs in a row) are summed before being added.
 //!
 //! Gathering first takes the loads of scattered particles out of the
 //! arithmetic, so the square roots and divisions of a batch proceed side by
@@ -9,8 +22,10 @@
 
 use multiversion::multiversion;
 
+use std::ops::Range;
+
 use crate::parallel::{Block, Elements};
-use crate::springs::Springs;
+use crate::springs::{Springs, MIN_RUN};
 use crate::{Real, Vec3};
 
 /// Springs per batch: their data (12 arrays of `BATCH` reals, 6 KiB) stays
@@ -51,7 +66,14 @@ impl Default for SpringBatch {
 }
 
 /// Add the force of every spring of `block` (a block of the springs'
-/// schedule) into `force` through the block, a batch at a time.
+/// schedule) into `force` through the block, a batch at a time: each run
+/// of at least [`MIN_RUN`] springs (up to [`BATCH`]) as one batch, the
+/// springs between runs in batches of up to [`BATCH`].
+#[multiversion(targets(
+    "x86_64+avx512f+avx512vl+avx512dq+avx2+fma",
+    "x86_64+avx2+fma",
+    "aarch64+neon"
+))]
 pub fn accumulate_block(
     springs: &Springs,
     position: &[Vec3],
@@ -59,68 +81,170 @@ pub fn accumulate_block(
     block: &Block<'_, Vec3, 2>,
     batch: &mut SpringBatch,
 ) {
-    // The pulls on the springs' first particles: springs are stored by
-    // lowest particle, so one particle is usually the first of several
-    // springs in a row; its share is summed here and added once.
     let mut pending = Pending::default();
-    for start in (0..block.len()).step_by(BATCH) {
-        let range = start..(start + BATCH).min(block.len());
-        let members = &block.members()[range.clone()];
-        for (b, &[i, j]) in members.iter().enumerate() {
-            let delta = position[i as usize] - position[j as usize];
-            let relative = velocity[i as usize] - velocity[j as usize];
-            for axis in 0..3 {
-                batch.delta[axis][b] = delta[axis];
-                batch.relative_velocity[axis][b] = relative[axis];
+    let mut scattered = 0..0;
+    let mut e = 0;
+    while e < block.len() {
+        let run = block.run(e).min(BATCH);
+        if run >= MIN_RUN {
+            let waiting = std::mem::replace(&mut scattered, e + run..e + run);
+            scattered_batch(
+                springs,
+                position,
+                velocity,
+                block,
+                waiting,
+                batch,
+                &mut pending,
+            );
+            run_batch(springs, position, velocity, block, e, run, batch);
+            e += run;
+        } else {
+            scattered.end = e + 1;
+            if scattered.len() == BATCH {
+                let full = std::mem::replace(&mut scattered, e + 1..e + 1);
+                scattered_batch(
+                    springs,
+                    position,
+                    velocity,
+                    block,
+                    full,
+                    batch,
+                    &mut pending,
+                );
             }
-        }
-        let count = members.len();
-        let (stiffness, damping, rest_length, one_sided) = match block.elements(range.clone()) {
-            Elements::Range(r) => (
-                &springs.stiffness[r.clone()],
-                &springs.damping[r.clone()],
-                &springs.rest_length[r.clone()],
-                &springs.one_sided[r],
-            ),
-            Elements::List(list) => {
-                for (b, &s) in list.iter().enumerate() {
-                    let s = s as usize;
-                    batch.stiffness[b] = springs.stiffness[s];
-                    batch.damping[b] = springs.damping[s];
-                    batch.rest_length[b] = springs.rest_length[s];
-                    batch.one_sided[b] = springs.one_sided[s];
-                }
-                (
-                    &batch.stiffness[..count],
-                    &batch.damping[..count],
-                    &batch.rest_length[..count],
-                    &batch.one_sided[..count],
-                )
-            }
-        };
-        pulls(
-            &batch.delta,
-            &batch.relative_velocity,
-            [stiffness, damping, rest_length],
-            &mut batch.pull,
-        );
-        for (b, &[first, _]) in members.iter().enumerate() {
-            let pull = Vec3::new(batch.pull[0][b], batch.pull[1][b], batch.pull[2][b]);
-            if first != pending.particle {
-                pending.flush(block);
-                pending = Pending {
-                    particle: first,
-                    element: range.start + b,
-                    sum: Vec3::ZERO,
-                };
-            }
-            if !one_sided[b] {
-                pending.sum -= pull;
-            }
-            block.add(range.start + b, 1, pull);
+            e += 1;
         }
     }
+    scattered_batch(
+        springs,
+        position,
+        velocity,
+        block,
+        scattered,
+        batch,
+        &mut pending,
+    );
     pending.flush(block);
+}
+
+/// The springs `e..e + count` of the block, a run ([`Block::run`]).
+#[inline(always)]
+fn run_batch(
+    springs: &Springs,
+    position: &[Vec3],
+    velocity: &[Vec3],
+    block: &Block<'_, Vec3, 2>,
+    e: usize,
+    count: usize,
+    batch: &mut SpringBatch,
+) {
+    let [a, b] = block.members()[e].map(|p| p as usize);
+    let (first_x, second_x) = (&position[a..a + count], &position[b..b + count]);
+    let (first_v, second_v) = (&velocity[a..a + count], &velocity[b..b + count]);
+    for m in 0..count {
+        let delta = first_x[m] - second_x[m];
+        let relative = first_v[m] - second_v[m];
+        for axis in 0..3 {
+            batch.delta[axis][m] = delta[axis];
+            batch.relative_velocity[axis][m] = relative[axis];
+        }
+    }
+    let s = block.element(e);
+    let range = s..s + count;
+    pulls(
+        &batch.delta,
+        &batch.relative_velocity,
+        [
+            &springs.stiffness[range.clone()],
+            &springs.damping[range.clone()],
+            &springs.rest_length[range.clone()],
+        ],
+        &mut batch.pull,
+    );
+    let one_sided = &springs.one_sided[range];
+    let pull = &batch.pull;
+    let pull_on = |m: usize| Vec3::new(pull[0][m], pull[1][m], pull[2][m]);
+    block.add_run(e, 0, count, |m| {
+        if one_sided[m] {
+            Vec3::ZERO
+        } else {
+            -pull_on(m)
+        }
+    });
+    block.add_run(e, 1, count, pull_on);
+}
+
+/// The springs `members` (a range of the block's, up to [`BATCH`]), their
+/// particles gathered one by one; the pulls on their first particles
+/// summed in `pending` while the particle stays the same.
+#[inline(always)]
+fn scattered_batch(
+    springs: &Springs,
+    position: &[Vec3],
+    velocity: &[Vec3],
+    block: &Block<'_, Vec3, 2>,
+    range: Range<usize>,
+    batch: &mut SpringBatch,
+    pending: &mut Pending,
+) {
+    if range.is_empty() {
+        return;
+    }
+    let members = &block.members()[range.clone()];
+    for (b, &[i, j]) in members.iter().enumerate() {
+        let delta = position[i as usize] - position[j as usize];
+        let relative = velocity[i as usize] - velocity[j as usize];
+        for axis in 0..3 {
+            batch.delta[axis][b] = delta[axis];
+            batch.relative_velocity[axis][b] = relative[axis];
+        }
+    }
+    let count = members.len();
+    let (stiffness, damping, rest_length, one_sided) = match block.elements(range.clone()) {
+        Elements::Range(r) => (
+            &springs.stiffness[r.clone()],
+            &springs.damping[r.clone()],
+            &springs.rest_length[r.clone()],
+            &springs.one_sided[r],
+        ),
+        Elements::List(list) => {
+            for (b, &s) in list.iter().enumerate() {
+                let s = s as usize;
+                batch.stiffness[b] = springs.stiffness[s];
+                batch.damping[b] = springs.damping[s];
+                batch.rest_length[b] = springs.rest_length[s];
+                batch.one_sided[b] = springs.one_sided[s];
+            }
+            (
+                &batch.stiffness[..count],
+                &batch.damping[..count],
+                &batch.rest_length[..count],
+                &batch.one_sided[..count],
+            )
+        }
+    };
+    pulls(
+        &batch.delta,
+        &batch.relative_velocity,
+        [stiffness, damping, rest_length],
+        &mut batch.pull,
+    );
+    for (b, &[first, _]) in members.iter().enumerate() {
+        let pull = Vec3::new(batch.pull[0][b], batch.pull[1][b], batch.pull[2][b]);
+        if first != pending.particle {
+            pending.flush(block);
+            *pending = Pending {
+                particle: first,
+                element: range.start + b,
+                sum: Vec3::ZERO,
+            };
+        }
+        if !one_sided[b] {
+            pending.sum -= pull;
+        }
+        block.add(range.start + b, 1, pull);
+    }
 }
 
 /// The summed pulls on one first particle, not yet added.
@@ -156,13 +280,9 @@ impl Pending {
 /// The pull of every spring of the batch: with `d = |Δx|` and the axis
 /// `t = Δx / d`, the tension `k (d - L0) + c Δv·t` along `t`; zero for a
 /// spring of zero length (no axis). Square roots and divisions are
-/// correctly rounded in every vector width, so each version gives the same
-/// bits.
-#[multiversion(targets(
-    "x86_64+avx512f+avx512vl+avx512dq+avx2+fma",
-    "x86_64+avx2+fma",
-    "aarch64+neon"
-))]
+/// correctly rounded in every vector width, and no product is fused into
+/// an addition, so each version of the kernel gives the same bits.
+#[inline(always)]
 fn pulls(
     delta: &[[Real; BATCH]; 3],
     relative_velocity: &[[Real; BATCH]; 3],
