@@ -29,6 +29,16 @@ impl Force for Gravity {
         });
     }
 
+    fn write(&mut self, context: &ForceContext, force: &mut [Vec3]) -> bool {
+        let g = self.acceleration;
+        parallel::for_each_span(force, |start, force| {
+            for (f, &m) in force.iter_mut().zip(&context.mass[start..]) {
+                *f = m * g;
+            }
+        });
+        true
+    }
+
     fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
         let (x, m, g) = (context.position, context.mass, self.acceleration);
         energies.gravity -= parallel::sum(x.len(), |range| range.map(|i| m[i] * g.dot(x[i])).sum());

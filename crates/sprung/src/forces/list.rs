@@ -81,10 +81,18 @@ impl ForceList {
         self.forces.is_empty()
     }
 
-    /// Clear `force`, then add every force at the state of `context` (N).
+    /// Set `force` to the sum of every force at the state of `context` (N):
+    /// the first force written ([`Force::write`]) or the entries cleared,
+    /// then every other force added, in order.
     pub fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
-        parallel::for_each_span(&mut *force, |_, force| force.fill(Vec3::ZERO));
-        for f in &mut self.forces {
+        let written = self
+            .forces
+            .first_mut()
+            .is_some_and(|first| first.write(context, force));
+        if !written {
+            parallel::for_each_span(&mut *force, |_, force| force.fill(Vec3::ZERO));
+        }
+        for f in self.forces.iter_mut().skip(usize::from(written)) {
             f.accumulate(context, force);
         }
     }

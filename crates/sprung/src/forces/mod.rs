@@ -125,6 +125,14 @@ pub trait Force: Send + Sync + std::fmt::Debug + std::any::Any {
     /// lets a force keep scratch buffers (per-particle normals, say) sized
     /// on first use, so a step allocates nothing.
     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]);
+    /// Write this force (N) into `force` in place of what is there, when it
+    /// can do so in the same pass as adding it, and say so; `false` (the
+    /// default): it wrote nothing. The first force of a [`ForceList`] that
+    /// writes saves the pass that clears the forces.
+    fn write(&mut self, context: &ForceContext, force: &mut [Vec3]) -> bool {
+        let _ = (context, force);
+        false
+    }
     /// Add this force's potential energy (J) to the right term of
     /// `energies`; a force without a potential (drag, wind) adds nothing.
     fn add_energy(&self, context: &ForceContext, energies: &mut Energies);
