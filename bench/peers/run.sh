@@ -17,10 +17,13 @@ fi
 cargo build --release -p sprung-cli --quiet
 echo "peer,form,size,threads,ms_per_step,spring_updates_per_second"
 ./target/release/sprung bench --only cloth --sizes "$n" --compare --csv target/peers-sprung.csv >/dev/null
-awk -F, -v n="$n" 'NR > 1 && $2 == "cloth " n "²" && $3 == "symplectic_euler" {
-    printf "sprung,general spring list,%s,%s,%.4f,%s\n", n, $6, $9, $10
-    if ($6 == 1 && $NF != "")
-        printf "textbook loop,array of structs,%s,1,%.4f,%.4e\n", n, $NF, $5 / ($NF / 1000) }' target/peers-sprung.csv
+# Columns by their header's names, so new columns do not shift them.
+awk -F, -v n="$n" 'NR == 1 { for (c = 1; c <= NF; c++) col[$c] = c; next }
+    $col["case"] == "cloth " n "²" && $col["integrator"] == "symplectic_euler" {
+    t = $col["threads"]; ms = $col["ms_per_step"]; reference = $col["textbook_ms_per_step"]
+    printf "sprung,general spring list,%s,%s,%.4f,%.4e\n", n, t, ms, $col["spring_updates_per_s"]
+    if (t == 1 && reference != "")
+        printf "textbook loop,array of structs,%s,1,%.4f,%.4e\n", n, reference, $col["springs"] / (reference / 1000) }' target/peers-sprung.csv
 for t in 1 "$threads"; do
     "$venv/bin/python" bench/peers/taichi_cloth.py "$n" "$t"
 done
