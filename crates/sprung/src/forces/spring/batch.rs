@@ -142,26 +142,23 @@ fn run_batch(
     let [a, b] = block.members()[e].map(|p| p as usize);
     let (first_x, second_x) = (&position[a..a + count], &position[b..b + count]);
     let (first_v, second_v) = (&velocity[a..a + count], &velocity[b..b + count]);
+    let s = block.element(e);
+    let range = s..s + count;
+    let stiffness = &springs.stiffness[range.clone()];
+    let damping = &springs.damping[range.clone()];
+    let rest_length = &springs.rest_length[range.clone()];
+    // The particles are read straight from their slices, in the loop that
+    // computes the pulls.
+    let [px, py, pz] = &mut batch.pull;
     for m in 0..count {
         let delta = first_x[m] - second_x[m];
         let relative = first_v[m] - second_v[m];
-        for axis in 0..3 {
-            batch.delta[axis][m] = delta[axis];
-            batch.relative_velocity[axis][m] = relative[axis];
-        }
+        [px[m], py[m], pz[m]] = pull(
+            delta.to_array(),
+            relative.to_array(),
+            [stiffness[m], damping[m], rest_length[m]],
+        );
     }
-    let s = block.element(e);
-    let range = s..s + count;
-    pulls(
-        &batch.delta,
-        &batch.relative_velocity,
-        [
-            &springs.stiffness[range.clone()],
-            &springs.damping[range.clone()],
-            &springs.rest_length[range.clone()],
-        ],
-        &mut batch.pull,
-    );
     let one_sided = &springs.one_sided[range];
     let pull = &batch.pull;
     let pull_on = |m: usize| Vec3::new(pull[0][m], pull[1][m], pull[2][m]);
@@ -277,35 +274,51 @@ impl Pending {
     }
 }
 
-/// The pull of every spring of the batch: with `d = |Δx|` and the axis
-/// `t = Δx / d`, the tension `k (d - L0) + c Δv·t` along `t`; zero for a
-/// spring of zero length (no axis). Square roots and divisions are
-/// correctly rounded in every vector width, and no product is fused into
-/// an addition, so each version of the kernel gives the same bits.
+/// The pull of every spring of the batch ([`pull`]), in one loop the
+/// compiler vectorises.
 #[inline(always)]
 fn pulls(
     delta: &[[Real; BATCH]; 3],
     relative_velocity: &[[Real; BATCH]; 3],
     [stiffness, damping, rest_length]: [&[Real]; 3],
-    pull: &mut [[Real; BATCH]; 3],
+    pull_out: &mut [[Real; BATCH]; 3],
 ) {
     let [dx, dy, dz] = delta;
     let [wx, wy, wz] = relative_velocity;
-    let [px, py, pz] = pull;
+    let [px, py, pz] = pull_out;
     let count = stiffness.len().min(damping.len()).min(rest_length.len());
     for b in 0..count.min(BATCH) {
-        let length_squared = dx[b] * dx[b] + dy[b] * dy[b] + dz[b] * dz[b];
-        let length = length_squared.sqrt();
-        let inverse = if length_squared > 0.0 {
-            1.0 / length
-        } else {
-            0.0
-        };
-        let closing = (wx[b] * dx[b] + wy[b] * dy[b] + wz[b] * dz[b]) * inverse;
-        let tension = stiffness[b] * (length - rest_length[b]) + damping[b] * closing;
-        let along = tension * inverse;
-        px[b] = along * dx[b];
-        py[b] = along * dy[b];
-        pz[b] = along * dz[b];
+        [px[b], py[b], pz[b]] = pull(
+            [dx[b], dy[b], dz[b]],
+            [wx[b], wy[b], wz[b]],
+            [stiffness[b], damping[b], rest_length[b]],
+        );
     }
+}
+
+/// The pull of one spring on its second particle (N), `-` that on its
+/// first: with `Δx` its extension `x_i - x_j` (m), `d = |Δx|` and the axis
+/// `t = Δx / d`, the tension `k (d - L0) + c Δv·t` along `t`, for the
+/// relative velocity `Δv = v_i - v_j` (m/s), stiffness `k` (N/m), damping
+/// `c` (N·s/m) and rest length `L0` (m); zero for a spring of zero length
+/// (no axis). Square roots and divisions are correctly rounded in every
+/// vector width, and no product is fused into an addition, so each version
+/// of the kernel gives the same bits.
+#[inline(always)]
+fn pull(
+    [dx, dy, dz]: [Real; 3],
+    [wx, wy, wz]: [Real; 3],
+    [stiffness, damping, rest_length]: [Real; 3],
+) -> [Real; 3] {
+    let length_squared = dx * dx + dy * dy + dz * dz;
+    let length = length_squared.sqrt();
+    let inverse = if length_squared > 0.0 {
+        1.0 / length
+    } else {
+        0.0
+    };
+    let closing = (wx * dx + wy * dy + wz * dz) * inverse;
+    let tension = stiffness * (length - rest_length) + damping * closing;
+    let along = tension * inverse;
+    [along * dx, along * dy, along * dz]
 }
