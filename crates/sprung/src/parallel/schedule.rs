@@ -634,4 +634,44 @@ mod tests {
         assert!(schedule.is_empty());
         check(&[[3, 1], [1, 2], [0, 3]], 4);
     }
+
+    #[test]
+    fn runs_are_measured_within_blocks_and_added_as_slices() {
+        // A run of ten springs [p, p + 1], a spring that breaks it, then a
+        // run of three [p, p + 2] and springs stepping in particles but not
+        // in index order (a run needs both).
+        let mut springs: Vec<[u32; 2]> = (0..10).map(|p| [p, p + 1]).collect();
+        springs.push([0, 5]);
+        springs.extend((0..3).map(|p| [p, p + 2]));
+        let schedule = Schedule::new(springs.iter().copied(), 12);
+        let runs: Vec<usize> = (0..springs.len())
+            .map(|e| usize::from(schedule.run[e]))
+            .collect();
+        assert_eq!(runs, [10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 1, 3, 2, 1]);
+        // Adding a run as a slice reaches each element's own particle.
+        let mut out = vec![0.0; 12];
+        schedule.for_each_block(&mut out, |block| {
+            block.add_run(0, 1, 10, |m| (m + 1) as f64);
+            block.add_run(11, 0, 3, |m| 100.0 * (m + 1) as f64);
+        });
+        let expected = [
+            100.0, 201.0, 302.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 0.0,
+        ];
+        assert_eq!(out, expected);
+        // A run is measured in the schedule's order of the elements'
+        // own indices: ten springs stepping in particles but listed
+        // backwards are no run.
+        let backwards: Vec<[u32; 2]> = (0..10).rev().map(|p| [p, p + 1]).collect();
+        let schedule = Schedule::new(backwards.iter().copied(), 11);
+        assert!(schedule.run.iter().all(|&r| r == 1));
+    }
+
+    #[test]
+    #[should_panic(expected = "not a run")]
+    fn adding_what_is_not_a_run_as_one_panics() {
+        let springs = [[0u32, 1], [1, 2], [5, 6]];
+        let schedule = Schedule::new(springs.iter().copied(), 7);
+        let mut out = vec![0.0; 7];
+        schedule.for_each_block(&mut out, |block| block.add_run(0, 0, 3, |_| 1.0));
+    }
 }
