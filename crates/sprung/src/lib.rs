@@ -22,6 +22,21 @@
 //! assert!(world.particles.position[9].y < -2.0); // stretched under gravity
 //! ```
 
+/// Compile the function it wraps once for each vector unit (AVX-512, AVX2
+/// with FMA, NEON) besides the baseline, and run the widest one the
+/// processor has, chosen at run time (`multiversion`). A plain release
+/// build thus uses the wide units without `-C target-cpu=native`.
+macro_rules! vectorised {
+    ($function:item) => {
+        #[multiversion::multiversion(targets(
+            "x86_64+avx512f+avx512vl+avx512dq+avx2+fma",
+            "x86_64+avx2+fma",
+            "aarch64+neon"
+        ))]
+        $function
+    };
+}
+
 pub mod body;
 pub mod build;
 pub mod collide;

@@ -34,14 +34,19 @@ impl Integrator for SymplecticEuler {
         // products, one pass over the particles fewer.
         let (force, inverse_mass) = (&self.force, system.inverse_mass());
         parallel::for_each_span((position, velocity), |start, (x, v)| {
-            let particles = x.iter_mut().zip(v);
-            for ((x, v), (&f, &w)) in
-                particles.zip(force[start..].iter().zip(&inverse_mass[start..]))
-            {
-                *v += f * w * dt;
-                *x += *v * dt;
-            }
+            advance(x, v, &force[start..], &inverse_mass[start..], dt);
         });
         Ok(StepReport::default())
+    }
+}
+
+vectorised! {
+    /// `v += f w dt; x += v dt` over a span of particles.
+    fn advance(x: &mut [Vec3], v: &mut [Vec3], force: &[Vec3], inverse_mass: &[Real], dt: Real) {
+        let particles = x.iter_mut().zip(v);
+        for ((x, v), (&f, &w)) in particles.zip(force.iter().zip(inverse_mass)) {
+            *v += f * w * dt;
+            *x += *v * dt;
+        }
     }
 }

@@ -20,8 +20,6 @@
 //! arithmetic, so the square roots and divisions of a batch proceed side by
 //! side instead of waiting on each other's additions into shared particles.
 
-use multiversion::multiversion;
-
 use std::ops::Range;
 
 use crate::parallel::{Block, Elements};
@@ -65,67 +63,64 @@ impl Default for SpringBatch {
     }
 }
 
-/// Add the force of every spring of `block` (a block of the springs'
-/// schedule) into `force` through the block, a batch at a time: each run
-/// of at least [`MIN_RUN`] springs (up to [`BATCH`]) as one batch, the
-/// springs between runs in batches of up to [`BATCH`].
-#[multiversion(targets(
-    "x86_64+avx512f+avx512vl+avx512dq+avx2+fma",
-    "x86_64+avx2+fma",
-    "aarch64+neon"
-))]
-pub fn accumulate_block(
-    springs: &Springs,
-    position: &[Vec3],
-    velocity: &[Vec3],
-    block: &Block<'_, Vec3, 2>,
-    batch: &mut SpringBatch,
-) {
-    let mut pending = Pending::default();
-    let mut scattered = 0..0;
-    let mut e = 0;
-    while e < block.len() {
-        let run = block.run(e).min(BATCH);
-        if run >= MIN_RUN {
-            let waiting = std::mem::replace(&mut scattered, e + run..e + run);
-            scattered_batch(
-                springs,
-                position,
-                velocity,
-                block,
-                waiting,
-                batch,
-                &mut pending,
-            );
-            run_batch(springs, position, velocity, block, e, run, batch);
-            e += run;
-        } else {
-            scattered.end = e + 1;
-            if scattered.len() == BATCH {
-                let full = std::mem::replace(&mut scattered, e + 1..e + 1);
+vectorised! {
+    /// Add the force of every spring of `block` (a block of the springs'
+    /// schedule) into `force` through the block, a batch at a time: each run
+    /// of at least [`MIN_RUN`] springs (up to [`BATCH`]) as one batch, the
+    /// springs between runs in batches of up to [`BATCH`].
+    pub fn accumulate_block(
+        springs: &Springs,
+        position: &[Vec3],
+        velocity: &[Vec3],
+        block: &Block<'_, Vec3, 2>,
+        batch: &mut SpringBatch,
+    ) {
+        let mut pending = Pending::default();
+        let mut scattered = 0..0;
+        let mut e = 0;
+        while e < block.len() {
+            let run = block.run(e).min(BATCH);
+            if run >= MIN_RUN {
+                let waiting = std::mem::replace(&mut scattered, e + run..e + run);
                 scattered_batch(
                     springs,
                     position,
                     velocity,
                     block,
-                    full,
+                    waiting,
                     batch,
                     &mut pending,
                 );
+                run_batch(springs, position, velocity, block, e, run, batch);
+                e += run;
+            } else {
+                scattered.end = e + 1;
+                if scattered.len() == BATCH {
+                    let full = std::mem::replace(&mut scattered, e + 1..e + 1);
+                    scattered_batch(
+                        springs,
+                        position,
+                        velocity,
+                        block,
+                        full,
+                        batch,
+                        &mut pending,
+                    );
+                }
+                e += 1;
             }
-            e += 1;
         }
+        scattered_batch(
+            springs,
+            position,
+            velocity,
+            block,
+            scattered,
+            batch,
+            &mut pending,
+        );
+        pending.flush(block);
     }
-    scattered_batch(
-        springs,
-        position,
-        velocity,
-        block,
-        scattered,
-        batch,
-        &mut pending,
-    );
-    pending.flush(block);
 }
 
 /// The springs `e..e + count` of the block, a run ([`Block::run`]).
