@@ -27,20 +27,55 @@ fn summed_directly(world: &World) -> Vec<Vec3> {
     force
 }
 
-/// The largest pull of any spring on particle `p` (N): the scale of the
+/// The largest pull of any spring on each particle (N): the scale of the
 /// round-off in its summed force.
-fn largest_pull(world: &World, p: usize) -> Real {
-    let (x, springs) = (&world.particles.position, &world.springs);
-    (0..springs.len())
-        .filter(|&s| springs.endpoints(s).contains(&(p as u32)))
-        .map(|s| {
-            let [i, j] = springs.endpoints(s).map(|q| q as usize);
-            let length = (x[i] - x[j]).length();
-            springs.stiffness[s] * (length - springs.rest_length[s]).abs()
-                + springs.damping[s]
-                    * (world.particles.velocity[i] - world.particles.velocity[j]).length()
-        })
-        .fold(0.0, Real::max)
+fn largest_pulls(world: &World) -> Vec<Real> {
+    let (x, v, springs) = (
+        &world.particles.position,
+        &world.particles.velocity,
+        &world.springs,
+    );
+    let mut largest = vec![0.0; x.len()];
+    for s in 0..springs.len() {
+        let [i, j] = springs.endpoints(s).map(|q| q as usize);
+        let length = (x[i] - x[j]).length();
+        let pull = springs.stiffness[s] * (length - springs.rest_length[s]).abs()
+            + springs.damping[s] * (v[i] - v[j]).length();
+        for p in [i, j] {
+            largest[p] = Real::max(largest[p], pull);
+        }
+    }
+    largest
+}
+
+/// Check the world's spring force against [`summed_directly`].
+fn assert_force_is_each_spring_summed(world: &mut World) {
+    world.evaluate_forces();
+    let expected = summed_directly(world);
+    let largest = largest_pulls(world);
+    for (p, (f, e)) in world.particles.force.iter().zip(&expected).enumerate() {
+        // The same pulls added in another order, each computed as `(s/d) Δx`
+        // rather than `s (Δx/d)`: a few roundings of the largest pull at
+        // the particle, summed over its dozen springs (1e-13 relative).
+        let tolerance = 1e-13 * largest[p];
+        assert!(
+            (*f - *e).abs().max_element() <= tolerance,
+            "particle {p}: {f} against {e}"
+        );
+    }
+}
+
+/// A spring between `first` and `second` with random rest length (m),
+/// stiffness (N/m) and damping (N·s/m).
+fn random_spring(first: usize, second: usize, one_sided: bool, rng: &mut Rng) -> SpringData {
+    SpringData {
+        first,
+        second,
+        rest_length: Some(0.5 + 0.4 * rng.symmetric()),
+        stiffness: 100.0 * (1.5 + rng.symmetric()),
+        damping: 0.5 * (1.5 + rng.symmetric()),
+        one_sided,
+    }
 }
 
 #[test]
@@ -54,14 +89,7 @@ fn springs_in_runs_and_scattered_pull_as_each_spring_summed() {
     let position: Vec<Vec3> = (0..n).map(|_| rng.vector(1.0)).collect();
     let mut body = BodyData::from_positions(position);
     body.velocity = (0..n).map(|_| rng.vector(2.0)).collect();
-    let spring = |first: usize, second: usize, one_sided: bool, rng: &mut Rng| SpringData {
-        first,
-        second,
-        rest_length: Some(0.5 + 0.4 * rng.symmetric()),
-        stiffness: 100.0 * (1.5 + rng.symmetric()),
-        damping: 0.5 * (1.5 + rng.symmetric()),
-        one_sided,
-    };
+    let spring = random_spring;
     for p in 0..n - 1 {
         body.springs.push(spring(p, p + 1, true, &mut rng));
     }
@@ -84,16 +112,52 @@ fn springs_in_runs_and_scattered_pull_as_each_spring_summed() {
     let stored = |s: usize| world.springs.endpoints(s);
     assert!((0..n - 1).all(|p| stored(p) == [p as u32, p as u32 + 1]));
     assert!((0..n - 7).all(|p| stored(n - 1 + p) == [p as u32, p as u32 + 7]));
-    world.evaluate_forces();
-    let expected = summed_directly(&world);
-    for (p, (f, e)) in world.particles.force.iter().zip(&expected).enumerate() {
-        // The same pulls added in another order, each computed as `(s/d) Δx`
-        // rather than `s (Δx/d)`: a few roundings of the largest pull at
-        // the particle, summed over its dozen springs (1e-13 relative).
-        let tolerance = 1e-13 * largest_pull(&world, p);
-        assert!(
-            (*f - *e).abs().max_element() <= tolerance,
-            "particle {p}: {f} against {e}"
-        );
+    assert_force_is_each_spring_summed(&mut world);
+}
+
+#[test]
+fn a_large_grid_of_runs_in_blocks_pulls_as_each_spring_summed() {
+    // 130 × 130 particles (more than the schedule's blocks of 4096, so it
+    // cuts them by neighbourhood and permutes the springs into blocks):
+    // a cloth's families of springs, each a run longer than a batch, one
+    // of them one-sided and one stored backwards ([p + 131, p]), and short
+    // random springs between them, at random places and velocities.
+    let side = 130;
+    let mut rng = Rng::new(17);
+    let position: Vec<Vec3> = (0..side * side)
+        .map(|p| Vec3::new((p % side) as Real, (p / side) as Real, 0.0) + rng.vector(0.2))
+        .collect();
+    let mut body = BodyData::from_positions(position);
+    body.velocity = (0..side * side).map(|_| rng.vector(1.0)).collect();
+    for row in 0..side {
+        for column in 0..side {
+            let p = row * side + column;
+            if column + 1 < side {
+                body.springs.push(random_spring(p, p + 1, false, &mut rng));
+            }
+            if column + 2 < side {
+                body.springs.push(random_spring(p, p + 2, true, &mut rng));
+            }
+            if row + 1 < side {
+                body.springs
+                    .push(random_spring(p, p + side, false, &mut rng));
+                if column + 1 < side {
+                    body.springs
+                        .push(random_spring(p + side + 1, p, false, &mut rng));
+                }
+            }
+        }
     }
+    let mut joined = std::collections::HashSet::new();
+    while joined.len() < 500 {
+        let a = ((rng.symmetric() + 1.0) * 0.5 * (side * side) as Real) as usize % (side * side);
+        let b = (a + 3 * side + ((rng.symmetric() + 1.0) * 100.0) as usize) % (side * side);
+        if a.abs_diff(b) < 4 * side && joined.insert((a.min(b), a.max(b))) {
+            body.springs.push(random_spring(a, b, false, &mut rng));
+        }
+    }
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    world.set_gravity(Vec3::ZERO);
+    world.add_body("grid", body).expect("valid body");
+    assert_force_is_each_spring_summed(&mut world);
 }

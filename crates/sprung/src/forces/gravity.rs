@@ -30,6 +30,10 @@ impl Force for Gravity {
     }
 
     fn write(&mut self, context: &ForceContext, force: &mut [Vec3]) -> bool {
+        if force.len() != context.mass.len() {
+            // Not one entry per particle: cleared and added instead.
+            return false;
+        }
         let g = self.acceleration;
         parallel::for_each_span(force, |start, force| {
             for (f, &m) in force.iter_mut().zip(&context.mass[start..]) {

@@ -1,6 +1,7 @@
 //! Elements that share particles (springs, triangles), in blocks that
 //! threads can add into side by side without meeting.
 
+use std::cell::Cell;
 use std::marker::PhantomData;
 use std::ops::{AddAssign, Range};
 
@@ -41,8 +42,9 @@ pub struct Schedule<const W: usize> {
     /// The elements' particles, block by block.
     members: Vec<[u32; W]>,
     /// The elements' own indices, in the same order; empty when that order
-    /// is theirs already (elements stored by lowest particle, as
-    /// `World::add_body` stores springs, cut by neighbourhood).
+    /// is theirs already (elements stored by lowest particle, cut by
+    /// neighbourhood: the springs of bodies without runs, as
+    /// `World::add_body` stores them).
     element: Vec<u32>,
     /// Each block's elements (a range of `members`), phase by phase.
     blocks: Vec<Range<usize>>,
@@ -217,7 +219,7 @@ impl<const W: usize> Schedule<W> {
                 let steps = this
                     .iter()
                     .zip(&next)
-                    .all(|(&a, &b)| b == a.wrapping_add(1));
+                    .all(|(&a, &b)| a.checked_add(1) == Some(b));
                 let index = |e: usize| self.element.get(e).map_or(e, |&i| i as usize);
                 if steps && index(e + 1) == index(e) + 1 {
                     run[e] = run[e + 1].saturating_add(1);
@@ -281,6 +283,7 @@ impl<const W: usize> Schedule<W> {
                 first: range.start,
                 run: &self.run[range.clone()],
                 shared: &shared,
+                _one_thread: PhantomData,
             });
         };
         for phase in &self.phases {
@@ -327,6 +330,9 @@ pub struct Block<'a, T, const W: usize> {
     /// The elements' runs (`Schedule::run`).
     run: &'a [u8],
     shared: &'a Disjoint<'a, T>,
+    /// A block is used by the one thread that runs it: not `Sync`, so no
+    /// code can hand it to two threads that would add into one entry.
+    _one_thread: PhantomData<Cell<()>>,
 }
 
 impl<T: Copy + AddAssign, const W: usize> Block<'_, T, W> {
@@ -403,14 +409,16 @@ impl<T: Copy + AddAssign, const W: usize> Block<'_, T, W> {
         let start = self.members[e][k] as usize;
         // SAFETY: particles `start..start + count` are the `k`-th particles
         // of this block's elements `e..e + count` (a run, checked above:
-        // `with_runs` measured it on the very members), within
-        // the slice and written by no other thread while this block runs,
-        // as for `add`. They are written through the raw pointer, one at a
-        // time, so a `value` that also adds into the block is no harm.
+        // `with_runs` measured it on the very members, without wrapping
+        // around), within the slice and written by no other thread while
+        // this block runs, as for `add`. Each value is computed before its
+        // entry is borrowed, so no reference to an entry is alive while
+        // `value` runs, whatever it does.
         unsafe {
             let entries = self.shared.pointer.add(start);
             for m in 0..count {
-                *entries.add(m) += value(m);
+                let addition = value(m);
+                *entries.add(m) += addition;
             }
         }
     }
@@ -658,12 +666,15 @@ mod tests {
             100.0, 201.0, 302.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 0.0,
         ];
         assert_eq!(out, expected);
-        // A run is measured in the schedule's order of the elements'
-        // own indices: ten springs stepping in particles but listed
-        // backwards are no run.
-        let backwards: Vec<[u32; 2]> = (0..10).rev().map(|p| [p, p + 1]).collect();
-        let schedule = Schedule::new(backwards.iter().copied(), 11);
-        assert!(schedule.run.iter().all(|&r| r == 1));
+        // A run needs the elements' own indices to step by one too (their
+        // parameters are then contiguous): cut into blocks of 4096
+        // particles, elements 0 and 3 follow each other in block 1 with
+        // particles stepping by one, but are no run; elements 1 and 2 in
+        // block 0 are.
+        let springs = [[5000u32, 5001], [0, 1], [1, 2], [5001, 5002]];
+        let schedule = Schedule::new(springs.iter().copied(), 20_000);
+        assert_eq!(schedule.element, [1, 2, 0, 3]);
+        assert_eq!(schedule.run, [2, 1, 1, 1]);
     }
 
     #[test]
