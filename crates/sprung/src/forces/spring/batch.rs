@@ -1,24 +1,23 @@
-//! The springs' force a batch at a time: gather each spring's extension
-//! and relative velocity, compute the pulls of the whole batch in one
-//! loop the compiler vectorises, then add them into the particles in order.
-//! The whole kernel is compiled for the widest vector unit the processor
-//! has, chosen at run time (`multiversion`).
+//! The springs' force a batch at a time: the pulls of a batch of springs
+//! computed in one loop the compiler vectorises, then added into the
+//! particles in order. The whole kernel is `vectorised!`: compiled for
+//! the widest vector unit the processor has, chosen at run time.
 //!
 //! Two kinds of batch:
 //!
 //! - **runs** (`springs::storage_order` stores them first): springs whose
 //!   particles both step by one from spring to spring. Their particles are
-//!   read as contiguous slices and their pulls added back the same way
-//!   (`Block::add_run`), every loop vectorised: a builder's cloth, lattice
-//!   and rope are almost all runs.
-//! - **scattered** springs, any others: each spring's particles are
-//!   gathered one by one, and the pulls on the springs' first particles
-//!   (stored by lowest particle, a particle is usually the first of
-//!   several springs in a row) are summed before being added.
-//!
-//! Gathering first takes the loads of scattered particles out of the
-//! arithmetic, so the square roots and divisions of a batch proceed side by
-//! side instead of waiting on each other's additions into shared particles.
+//!   read as contiguous slices in the loop that computes the pulls, and
+//!   the pulls added back the same way (`Block::add_run`), every loop
+//!   vectorised: a builder's cloth, lattice and rope are almost all runs.
+//! - **scattered** springs, any others: each spring's extension and
+//!   relative velocity are gathered one by one first, then the pulls
+//!   computed, and the pulls on the springs' first particles (stored by
+//!   lowest particle, a particle is usually the first of several springs
+//!   in a row) summed before being added. Gathering first takes the loads
+//!   of scattered particles out of the arithmetic, so the square roots and
+//!   divisions of a batch proceed side by side instead of waiting on each
+//!   other's additions into shared particles.
 
 use std::ops::Range;
 
