@@ -385,9 +385,7 @@ impl<T: Copy + AddAssign, const W: usize> Block<'_, T, W> {
         // of `Disjoint`).
         unsafe { *self.shared.pointer.add(index) += value };
     }
-}
 
-impl<T: Copy + AddAssign, const W: usize> Block<'_, T, W> {
     /// Add `value(m)` to the entry of the `k`-th particle of the block's
     /// element `e + m`, for `m < count`, where those particles follow each
     /// other: elements `e..e + count` are a run ([`Block::run`], checked).
