@@ -217,6 +217,12 @@ fn machine(one_pool: &parallel::Pool, all_pool: &parallel::Pool, quick: bool) ->
             one / 1e9,
             every / 1e9
         );
+        let one = stream::pulls_per_second(one_pool);
+        let every = stream::pulls_per_second(all_pool);
+        let _ = write!(
+            header,
+            "\nspring arithmetic (the pull alone, data in cache): {one:.2e} springs/s on 1 thread, {every:.2e} on {threads}"
+        );
     }
     header
 }

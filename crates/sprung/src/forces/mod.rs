@@ -43,7 +43,7 @@ pub use gravity::Gravity;
 pub use list::ForceList;
 pub use mouse::MouseSpring;
 pub use pressure::{pressure, GasPressure};
-pub use spring::{spring_energy, SpringForce};
+pub use spring::{pulls_alone, spring_energy, SpringForce};
 pub use wind::{Wind, WindModel, AIR_DENSITY};
 pub use wind_field::{Gusts, Turbulence, WindField};
 

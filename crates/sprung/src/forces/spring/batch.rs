@@ -268,6 +268,45 @@ impl Pending {
     }
 }
 
+vectorised! {
+    /// The springs' pull formula alone, with nothing gathered or added:
+    /// the pulls of `springs` springs (rounded up to whole batches of
+    /// 64), one batch over and over, its data in the first-level
+    /// cache, through the kernel's own vectorised loop. Returns a sum of
+    /// pulls (N), so that no work can be skipped. `sprung bench` times it:
+    /// the springs per second it reaches are the arithmetic bound of the
+    /// force.
+    pub fn pulls_alone(springs: usize) -> Real {
+        let batches = springs.div_ceil(BATCH);
+        let mut batch = SpringBatch::default();
+        for b in 0..BATCH {
+            // Springs 1 cm long give or take, moving apart or together.
+            let spread = b as Real / BATCH as Real;
+            batch.delta[0][b] = 0.01 + 0.001 * spread;
+            batch.delta[1][b] = 0.002 * spread;
+            batch.delta[2][b] = -0.001;
+            batch.relative_velocity[0][b] = 0.1 - 0.2 * spread;
+            batch.stiffness[b] = 1000.0;
+            batch.damping[b] = 0.1;
+            batch.rest_length[b] = 0.01;
+        }
+        let mut total = 0.0;
+        for _ in 0..batches {
+            pulls(
+                &batch.delta,
+                &batch.relative_velocity,
+                [&batch.stiffness, &batch.damping, &batch.rest_length],
+                &mut batch.pull,
+            );
+            total += batch.pull[0][0];
+            // Feed a pull back, so that the batches depend on each other
+            // no more than through one number.
+            batch.delta[2][0] = -0.001 + 1e-12 * batch.pull[2][BATCH - 1];
+        }
+        total
+    }
+}
+
 /// The pull of every spring of the batch ([`pull`]), in one loop the
 /// compiler vectorises.
 #[inline(always)]
@@ -315,4 +354,33 @@ fn pull(
     let tension = stiffness * (length - rest_length) + damping * closing;
     let along = tension * inverse;
     [along * dx, along * dy, along * dz]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_pulls_alone_are_the_spring_formula() {
+        // One batch: its first spring, Δx = (1, 0, -0.1) cm apart at rest
+        // length 1 cm, Δv = (0.1, 0, 0) m/s, k = 1000 N/m, c = 0.1 N·s/m:
+        // the pull `s Δx / d` with `s = k (d - L0) + c Δv·Δx / d`. The
+        // kernel computes `(s / d) Δx` rather than `s (Δx / d)`: equal to
+        // a few roundings (1e-14 relative).
+        let delta = Vec3::new(0.01, 0.0, -0.001);
+        let relative = Vec3::new(0.1, 0.0, 0.0);
+        let d = delta.length();
+        let s = 1000.0 * (d - 0.01) + 0.1 * relative.dot(delta) / d;
+        let expected = s * delta.x / d;
+        let pull = pulls_alone(BATCH);
+        assert!(
+            (pull - expected).abs() <= 1e-14 * expected.abs(),
+            "{pull} against {expected}"
+        );
+        // Two batches: the second one's first spring as the first's, but
+        // for the 1e-12 m times a pull fed back into its Δz (1e-9
+        // relative).
+        let twice = pulls_alone(BATCH + 1);
+        assert!((twice - 2.0 * expected).abs() <= 1e-9 * expected.abs());
+    }
 }

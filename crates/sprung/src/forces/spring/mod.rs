@@ -23,6 +23,7 @@
 
 mod batch;
 
+pub use batch::pulls_alone;
 use batch::SpringBatch;
 
 use super::{Force, ForceContext, JacobianScale, Linearization};
