@@ -37,7 +37,7 @@ pub fn triad_bytes_per_second(pool: &parallel::Pool) -> f64 {
 
 /// Springs whose pulls one thread computes per timed pass of
 /// [`pulls_per_second`].
-const PULLS: usize = 1 << 22;
+const PULLS: usize = 1 << 24;
 
 /// Springs per second whose pulls `pool`'s threads compute together, the
 /// formula alone on data in the first-level cache of each (the best of
