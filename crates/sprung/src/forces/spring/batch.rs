@@ -75,49 +75,21 @@ vectorised! {
         batch: &mut SpringBatch,
     ) {
         let mut pending = Pending::default();
-        let mut scattered = 0..0;
         let mut e = 0;
         while e < block.len() {
             let run = block.run(e).min(BATCH);
             if run >= MIN_RUN {
-                let waiting = std::mem::replace(&mut scattered, e + run..e + run);
-                scattered_batch(
-                    springs,
-                    position,
-                    velocity,
-                    block,
-                    waiting,
-                    batch,
-                    &mut pending,
-                );
                 run_batch(springs, position, velocity, block, e, run, batch);
                 e += run;
-            } else {
-                scattered.end = e + 1;
-                if scattered.len() == BATCH {
-                    let full = std::mem::replace(&mut scattered, e + 1..e + 1);
-                    scattered_batch(
-                        springs,
-                        position,
-                        velocity,
-                        block,
-                        full,
-                        batch,
-                        &mut pending,
-                    );
-                }
+                continue;
+            }
+            // The scattered springs up to the next run, at most a batch.
+            let start = e;
+            while e < block.len() && e - start < BATCH && block.run(e) < MIN_RUN {
                 e += 1;
             }
+            scattered_batch(springs, position, velocity, block, start..e, batch, &mut pending);
         }
-        scattered_batch(
-            springs,
-            position,
-            velocity,
-            block,
-            scattered,
-            batch,
-            &mut pending,
-        );
         pending.flush(block);
     }
 }
@@ -179,9 +151,6 @@ fn scattered_batch(
     batch: &mut SpringBatch,
     pending: &mut Pending,
 ) {
-    if range.is_empty() {
-        return;
-    }
     let members = &block.members()[range.clone()];
     for (b, &[i, j]) in members.iter().enumerate() {
         let delta = position[i as usize] - position[j as usize];
