@@ -401,7 +401,16 @@ impl World {
     /// what the integrator reported (also kept in
     /// [`World::last_step_report`]); a solve that stopped above its
     /// tolerance is counted in [`World::solver_stats`].
+    ///
+    /// Called from outside the engine's pool of threads, the whole step is
+    /// handed to the pool at once ([`parallel::in_pool`]) rather than each
+    /// of its parallel loops one by one, the caller waiting each time.
     pub fn step(&mut self, dt: Real) -> Result<StepReport, StepError> {
+        parallel::in_pool(|| self.step_in_pool(dt))
+    }
+
+    /// [`World::step`], on a thread of the pool.
+    fn step_in_pool(&mut self, dt: Real) -> Result<StepReport, StepError> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(StepError::InvalidTimeStep { dt });
         }

@@ -77,6 +77,10 @@ vectorised! {
         let mut pending = Pending::default();
         let mut e = 0;
         while e < block.len() {
+            // The element a few batches on (the next run's start, most
+            // often), on its way while this batch is computed: a miss in
+            // the schedule's arrays would otherwise hold up every run.
+            block.prefetch(e + 4 * BATCH);
             let run = block.run(e).min(BATCH);
             if run >= MIN_RUN {
                 run_batch(springs, position, velocity, block, e, run, batch);
