@@ -28,7 +28,8 @@ use rayon::prelude::*;
 use crate::Real;
 
 pub use schedule::{
-    Block, Elements, Schedule, ScheduleCache, Writer, COLOUR_BLOCK, MAX_RUN, MIN_BLOCKS,
+    Block, Elements, Schedule, ScheduleCache, Writer, COLOUR_BLOCK, COLOUR_PIECE, MAX_RUN,
+    MIN_BLOCKS,
 };
 
 /// The number of elements a thread takes at a time, and the chunk of the

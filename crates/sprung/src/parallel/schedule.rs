@@ -28,12 +28,16 @@ use super::CHUNK;
 /// - **by colour**, when that gives fewer than [`MIN_BLOCKS`] blocks over
 ///   more than two chunks of particles (a mesh whose vertices are numbered
 ///   in no local order; a smaller scene keeps its one or two blocks, run
-///   in order on one thread, faster than colours): each element takes the
-///   first of 64 colours that none of its particles has yet (greedy
-///   colouring), a colour is a phase, cut into blocks of
-///   [`COLOUR_BLOCK`]
-///   elements; elements left without a colour make a last phase of one
-///   block.
+///   in order on one thread, faster than colours). Greedy colouring: each
+///   *piece* of [`COLOUR_PIECE`] elements in a row, in order, takes the
+///   first of 64 colours that none of its particles has yet; a colour is a
+///   phase, each of its pieces a block, so the elements keep their order
+///   and a thread reads them as stored. When the pieces need more than 64
+///   colours or leave fewer than [`MIN_BLOCKS`] pieces a colour on
+///   average (a numbering with no locality at all), single elements are
+///   coloured instead, each colour cut into blocks of [`COLOUR_BLOCK`]
+///   elements, and the elements left without a colour make a last phase
+///   of one block.
 ///
 /// Since the writes go by the schedule's own copy of the particles, no
 /// change made to the elements afterwards can make two threads meet.
@@ -70,6 +74,45 @@ pub const COLOUR_BLOCK: usize = 1024;
 /// The fewest blocks cut by neighbourhood for the schedule to use them
 /// rather than colours.
 pub const MIN_BLOCKS: usize = 4;
+
+/// Elements coloured together (in their order) when the schedule is cut by
+/// colour: a few pages of their particles and parameters, which a thread
+/// streams through as stored instead of gathering a colour's elements from
+/// all over the body.
+pub const COLOUR_PIECE: usize = 512;
+
+/// The colour of the elements that found none free among 64 (a colour is
+/// a bit of a `u64` per particle).
+const LEFT: usize = u64::BITS as usize;
+
+/// Greedy colours of `groups` (ranges of `members`, elements of particles
+/// below `particles`): each group takes the first of 64 colours that none
+/// of its particles has yet, [`LEFT`] when none is free.
+fn greedy_colours<const W: usize>(
+    members: &[[u32; W]],
+    groups: &[Range<usize>],
+    particles: usize,
+) -> Vec<usize> {
+    let mut used = vec![0u64; particles];
+    groups
+        .iter()
+        .map(|group| {
+            let group = &members[group.clone()];
+            let taken = group
+                .iter()
+                .flatten()
+                .fold(0, |acc, &p| acc | used[p as usize]);
+            let c = (!taken).trailing_zeros() as usize;
+            if c < LEFT {
+                group
+                    .iter()
+                    .flatten()
+                    .for_each(|&p| used[p as usize] |= 1 << c);
+            }
+            c
+        })
+        .collect()
+}
 
 impl<const W: usize> Default for Schedule<W> {
     fn default() -> Self {
@@ -108,22 +151,32 @@ impl<const W: usize> Schedule<W> {
         }
     }
 
-    /// Cut by colour (see the type's documentation).
+    /// Cut by colour (see the type's documentation): pieces of
+    /// [`COLOUR_PIECE`] elements in their order when that leaves enough of
+    /// them side by side, else single elements.
     fn coloured(members: Vec<[u32; W]>, particles: usize) -> Self {
-        /// The colour of elements that found none free.
-        const LEFT: usize = u64::BITS as usize;
-        let mut used = vec![0u64; particles];
-        let colour: Vec<usize> = members
-            .iter()
-            .map(|m| {
-                let taken = m.iter().fold(0, |acc, &p| acc | used[p as usize]);
-                let c = (!taken).trailing_zeros() as usize;
-                if c < LEFT {
-                    m.iter().for_each(|&p| used[p as usize] |= 1 << c);
-                }
-                c
-            })
+        let pieces: Vec<Range<usize>> = (0..members.len())
+            .step_by(COLOUR_PIECE)
+            .map(|start| start..(start + COLOUR_PIECE).min(members.len()))
             .collect();
+        let colour = greedy_colours(&members, &pieces, particles);
+        let colours = colour.iter().max().map_or(0, |&c| c + 1);
+        if colours <= LEFT && pieces.len() >= MIN_BLOCKS * colours {
+            // Block `p` is piece `p`, a phase a colour's pieces: the
+            // elements stay in place.
+            let key: Vec<usize> = (0..members.len()).map(|e| e / COLOUR_PIECE).collect();
+            let mut order: Vec<usize> = (0..pieces.len()).collect();
+            order.sort_by_key(|&p| colour[p]);
+            let mut phases = Vec::with_capacity(colours);
+            for c in 0..colours {
+                let start = phases.last().map_or(0, |phase: &Range<usize>| phase.end);
+                let count = colour.iter().filter(|&&pc| pc == c).count();
+                phases.push(start..start + count);
+            }
+            return Self::sorted(members, &key, order, phases);
+        }
+        let singles: Vec<Range<usize>> = (0..members.len()).map(|e| e..e + 1).collect();
+        let colour = greedy_colours(&members, &singles, particles);
         let mut count = [0usize; LEFT + 1];
         colour.iter().for_each(|&c| count[c] += 1);
         // Blocks: each colour cut into COLOUR_BLOCK elements, the leftovers
@@ -635,6 +688,14 @@ mod tests {
         let schedule = check(&springs, particles);
         assert!(schedule.phases.len() > 2, "colours expected");
         assert_phases_disjoint(&schedule, particles);
+        // The springs stored in no order either: a piece of them in a row
+        // reaches particles all over the grid, every piece meets every
+        // other, so single springs are coloured (and permuted).
+        let order = shuffled(springs.len() as u32);
+        let scattered: Vec<[u32; 2]> = order.iter().map(|&s| springs[s as usize]).collect();
+        let schedule = check(&scattered, particles);
+        assert!(!schedule.element.is_empty(), "single elements expected");
+        assert_phases_disjoint(&schedule, particles);
         // Triangles of the same shuffled grid.
         let mut triangles = Vec::new();
         for row in 0..side - 1 {
@@ -646,6 +707,27 @@ mod tests {
             }
         }
         let schedule = check(&triangles, particles);
+        assert_phases_disjoint(&schedule, particles);
+    }
+
+    #[test]
+    fn a_local_numbering_with_one_long_spring_is_coloured_by_pieces_in_place() {
+        // A grid numbered along rows, and one spring from the first
+        // particle to the last: too wide for blocks of neighbours, so the
+        // springs are coloured, a piece of them in a row at a time, and
+        // keep their order.
+        let side = 160;
+        let mut springs = grid(side);
+        springs.push([0, side * side - 1]);
+        let particles = (side * side) as usize;
+        let schedule = check(&springs, particles);
+        assert!(schedule.element.is_empty(), "pieces keep the order");
+        assert!(schedule.phases.len() > 2, "colours expected");
+        assert!(schedule.blocks.len() >= MIN_BLOCKS * schedule.phases.len());
+        assert!(schedule
+            .blocks
+            .iter()
+            .all(|block| block.len() == COLOUR_PIECE || block.end == springs.len()));
         assert_phases_disjoint(&schedule, particles);
     }
 
