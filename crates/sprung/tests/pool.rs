@@ -1,0 +1,87 @@
+//! Where a step runs: `World::step` called from a thread outside the
+//! engine's pool of threads hands the whole step to a thread of the pool
+//! (one hand-over a step instead of one for each of its parallel loops);
+//! called from a thread of a pool, it runs right there.
+
+mod common;
+
+use std::sync::{Arc, Mutex};
+
+use common::rope;
+use sprung::forces::{Force, ForceContext, JacobianScale, Linearization};
+use sprung::measure::Energies;
+use sprung::parallel::Pool;
+use sprung::{IntegratorKind, Vec3, World};
+
+/// Records the pool thread (its index in its pool, `None` outside any
+/// pool) each force evaluation runs on; adds no force.
+#[derive(Debug)]
+struct Where(Arc<Mutex<Vec<Option<usize>>>>);
+
+impl Force for Where {
+    fn name(&self) -> &'static str {
+        "where"
+    }
+    fn accumulate(&mut self, _: &ForceContext, _: &mut [Vec3]) {
+        if let Ok(mut seen) = self.0.lock() {
+            seen.push(rayon::current_thread_index());
+        }
+    }
+    fn add_energy(&self, _: &ForceContext, _: &mut Energies) {}
+    fn linearize(&mut self, _: &ForceContext) -> Linearization {
+        Linearization::Exact
+    }
+    fn add_jacobian_products(
+        &self,
+        _: &ForceContext,
+        _: JacobianScale,
+        _: &[Vec3],
+        _: &mut [Vec3],
+    ) {
+    }
+    fn add_jacobian_diagonal(&self, _: &ForceContext, _: JacobianScale, _: &mut [Vec3]) {}
+}
+
+/// A rope under RK4 (four force evaluations a step) with the recorder.
+fn world(seen: &Arc<Mutex<Vec<Option<usize>>>>) -> World {
+    let mut world = World::new(IntegratorKind::Rk4);
+    world
+        .add_body("rope", rope(5, 0.1, 100.0, 0.1))
+        .unwrap_or_else(|e| panic!("{e}"));
+    world.forces.push(Box::new(Where(Arc::clone(seen))));
+    world
+}
+
+fn seen(record: &Arc<Mutex<Vec<Option<usize>>>>) -> Vec<Option<usize>> {
+    record.lock().map(|s| s.clone()).unwrap_or_default()
+}
+
+#[test]
+fn a_step_from_outside_the_pool_runs_on_a_thread_of_the_pool() {
+    let record = Arc::new(Mutex::new(Vec::new()));
+    let mut world = world(&record);
+    // The test's own thread belongs to no pool.
+    assert_eq!(rayon::current_thread_index(), None);
+    for _ in 0..3 {
+        world.step(1e-3).unwrap_or_else(|e| panic!("{e}"));
+    }
+    let seen = seen(&record);
+    assert_eq!(seen.len(), 12, "RK4: four evaluations a step");
+    assert!(
+        seen.iter().all(Option::is_some),
+        "every evaluation on a pool thread: {seen:?}"
+    );
+}
+
+#[test]
+fn a_step_on_a_thread_of_a_pool_runs_there() {
+    let record = Arc::new(Mutex::new(Vec::new()));
+    let mut world = world(&record);
+    let pool = Pool::new(2).unwrap_or_else(|e| panic!("{e}"));
+    let caller = pool.install(|| {
+        world.step(1e-3).unwrap_or_else(|e| panic!("{e}"));
+        rayon::current_thread_index()
+    });
+    assert!(caller.is_some());
+    assert_eq!(seen(&record), vec![caller; 4], "on the caller's own thread");
+}
