@@ -165,9 +165,11 @@ impl Sim {
         let start = clock();
         let mut simulated = 0.0;
         // Steps go to the engine's threads a batch at a time (one hand-over
-        // to the pool per batch rather than per step), the batch doubling
-        // while it takes under a tenth of the budget, so the budget is
-        // overrun by a fifth of it at most.
+        // to the pool per batch rather than per step). A batch doubles while
+        // it takes under a tenth of the budget, and holds no more steps than
+        // the rest of the budget allows at the last batch's pace: the budget
+        // is overrun by about a step, as when the steps were taken one by
+        // one, unless the steps get dearer within the frame.
         let mut batch = 1;
         while self.debt >= dt {
             let owed = (self.debt / dt) as usize;
@@ -189,6 +191,11 @@ impl Sim {
             }
             if now - before < 0.1 * budget {
                 batch *= 2;
+            }
+            let per_step = (now - before) / taken as Real;
+            if per_step > 0.0 {
+                let affordable = ((budget - (now - start)) / per_step).ceil().max(1.0);
+                batch = batch.min(affordable as usize);
             }
         }
         // Smoothed over about 20 frames, as sums, so that a time step longer

@@ -402,15 +402,23 @@ impl World {
     /// [`World::last_step_report`]); a solve that stopped above its
     /// tolerance is counted in [`World::solver_stats`].
     ///
-    /// Called from outside the engine's pool of threads, the whole step is
-    /// handed to the pool at once ([`parallel::in_pool`]) rather than each
-    /// of its parallel loops one by one, the caller waiting each time.
+    /// Called from outside the engine's pool of threads, the step of a
+    /// world of more than [`parallel::CHUNK`] particles (whose loops are
+    /// shared among threads) is handed to the pool at once
+    /// ([`parallel::in_pool`]) rather than each of its parallel loops one
+    /// by one, the caller waiting each time; a smaller world, whose loops
+    /// mostly run on the calling thread, steps right there (a hand-over
+    /// costs more than its whole step).
     pub fn step(&mut self, dt: Real) -> Result<StepReport, StepError> {
-        parallel::in_pool(|| self.step_in_pool(dt))
+        if self.particles.len() > parallel::CHUNK {
+            parallel::in_pool(|| self.step_here(dt))
+        } else {
+            self.step_here(dt)
+        }
     }
 
-    /// [`World::step`], on a thread of the pool.
-    fn step_in_pool(&mut self, dt: Real) -> Result<StepReport, StepError> {
+    /// [`World::step`], on the thread it is called from.
+    fn step_here(&mut self, dt: Real) -> Result<StepReport, StepError> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(StepError::InvalidTimeStep { dt });
         }

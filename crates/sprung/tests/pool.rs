@@ -1,7 +1,10 @@
 //! Where a step runs: `World::step` called from a thread outside the
-//! engine's pool of threads hands the whole step to a thread of the pool
-//! (one hand-over a step instead of one for each of its parallel loops);
-//! called from a thread of a pool, it runs right there.
+//! engine's pool of threads hands the whole step of a world large enough
+//! to share its loops (more than `parallel::CHUNK` particles) to a thread
+//! of the pool, one hand-over a step instead of one for each of its
+//! parallel loops; a smaller world steps on the calling thread, where a
+//! hand-over would cost more than its step; called from a thread of a
+//! pool, a step runs right there.
 
 mod common;
 
@@ -10,7 +13,7 @@ use std::sync::{Arc, Mutex};
 use common::rope;
 use sprung::forces::{Force, ForceContext, JacobianScale, Linearization};
 use sprung::measure::Energies;
-use sprung::parallel::Pool;
+use sprung::parallel::{Pool, CHUNK};
 use sprung::{IntegratorKind, Vec3, World};
 
 /// Records the pool thread (its index in its pool, `None` outside any
@@ -42,11 +45,12 @@ impl Force for Where {
     fn add_jacobian_diagonal(&self, _: &ForceContext, _: JacobianScale, _: &mut [Vec3]) {}
 }
 
-/// A rope under RK4 (four force evaluations a step) with the recorder.
-fn world(seen: &Arc<Mutex<Vec<Option<usize>>>>) -> World {
+/// A rope of `free` free particles under RK4 (four force evaluations a
+/// step) with the recorder.
+fn world(free: usize, seen: &Arc<Mutex<Vec<Option<usize>>>>) -> World {
     let mut world = World::new(IntegratorKind::Rk4);
     world
-        .add_body("rope", rope(5, 0.1, 100.0, 0.1))
+        .add_body("rope", rope(free, 0.1, 100.0, 0.1))
         .unwrap_or_else(|e| panic!("{e}"));
     world.forces.push(Box::new(Where(Arc::clone(seen))));
     world
@@ -57,9 +61,10 @@ fn seen(record: &Arc<Mutex<Vec<Option<usize>>>>) -> Vec<Option<usize>> {
 }
 
 #[test]
-fn a_step_from_outside_the_pool_runs_on_a_thread_of_the_pool() {
+fn a_large_step_from_outside_the_pool_runs_on_a_thread_of_the_pool() {
     let record = Arc::new(Mutex::new(Vec::new()));
-    let mut world = world(&record);
+    let mut world = world(CHUNK, &record);
+    assert!(world.particles.len() > CHUNK);
     // The test's own thread belongs to no pool.
     assert_eq!(rayon::current_thread_index(), None);
     for _ in 0..3 {
@@ -74,9 +79,17 @@ fn a_step_from_outside_the_pool_runs_on_a_thread_of_the_pool() {
 }
 
 #[test]
+fn a_small_step_from_outside_the_pool_runs_on_the_calling_thread() {
+    let record = Arc::new(Mutex::new(Vec::new()));
+    let mut world = world(5, &record);
+    world.step(1e-3).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(seen(&record), vec![None; 4]);
+}
+
+#[test]
 fn a_step_on_a_thread_of_a_pool_runs_there() {
     let record = Arc::new(Mutex::new(Vec::new()));
-    let mut world = world(&record);
+    let mut world = world(CHUNK, &record);
     let pool = Pool::new(2).unwrap_or_else(|e| panic!("{e}"));
     let caller = pool.install(|| {
         world.step(1e-3).unwrap_or_else(|e| panic!("{e}"));

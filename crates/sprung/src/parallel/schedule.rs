@@ -46,9 +46,9 @@ pub struct Schedule<const W: usize> {
     /// The elements' particles, block by block.
     members: Vec<[u32; W]>,
     /// The elements' own indices, in the same order; empty when that order
-    /// is theirs already (elements stored by lowest particle, cut by
-    /// neighbourhood: the springs of bodies without runs, as
-    /// `World::add_body` stores them).
+    /// is theirs already (cut by neighbourhood with the elements stored by
+    /// lowest block, as `World::add_body` stores a body's springs, or
+    /// coloured by pieces, which keep the elements in place).
     element: Vec<u32>,
     /// Each block's elements (a range of `members`), phase by phase.
     blocks: Vec<Range<usize>>,
@@ -399,8 +399,9 @@ impl<T: Copy + AddAssign, const W: usize> Block<'_, T, W> {
         self.members.is_empty()
     }
 
-    /// Ask the processor to bring the `e`-th element's particles, run and
-    /// index into the cache ahead of their use (nothing past the block).
+    /// Ask the processor to bring the schedule's entries for the block's
+    /// `e`-th element (its particle indices, run length and own index)
+    /// into the cache ahead of their use; nothing past the block.
     #[inline(always)]
     pub fn prefetch(&self, e: usize) {
         #[cfg(target_arch = "x86_64")]
@@ -523,9 +524,12 @@ struct Disjoint<'a, T> {
 // (`Schedule::new`): cut by neighbourhood, block `b`'s elements have their
 // lowest particle in `[b B, (b + 1) B)` and span fewer than `B` particles,
 // so its writes stay in `[b B, (b + 2) B)`, and the blocks of a phase are
-// all even or all odd, two or more apart; cut by colour, the elements of a
-// colour share no particle, and the elements left without one run as a
-// phase of a single block. So no two threads ever touch the same entry;
+// all even or all odd, two or more apart; cut by colour, the blocks of a
+// phase are pieces of one colour, which share no particle with each other
+// (the elements within a piece may share particles: a block runs in
+// order on one thread), or single elements of one colour, which share
+// none, and the elements left without one run as a phase of a single
+// block. So no two threads ever touch the same entry;
 // every particle is within the slice (checked in `for_each_block`).
 // `T: Send` lets the values move between threads.
 #[allow(unsafe_code)]

@@ -77,9 +77,9 @@ vectorised! {
         let mut pending = Pending::default();
         let mut e = 0;
         while e < block.len() {
-            // The element a few batches on (the next run's start, most
-            // often), on its way while this batch is computed: a miss in
-            // the schedule's arrays would otherwise hold up every run.
+            // The schedule's entries four batches on, on their way while
+            // this batch is computed: read only at a run's start, they
+            // would otherwise miss the cache there and hold up each run.
             block.prefetch(e + 4 * BATCH);
             let run = block.run(e).min(BATCH);
             if run >= MIN_RUN {
