@@ -13,39 +13,13 @@ mod common;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
-use common::rope;
+use common::{rope, Watcher};
 use sprung::forces::{Force, ForceContext, JacobianScale, Linearization};
 use sprung::measure::Energies;
 use sprung::{
     BodyData, Collider, ContactResponse, IntegratorKind, Real, Shape, StepError, Substeps, Vec3,
     World,
 };
-
-/// Counts the force evaluations of a world (adds no force).
-#[derive(Debug)]
-struct Counter(Arc<AtomicUsize>);
-
-impl Force for Counter {
-    fn name(&self) -> &'static str {
-        "counter"
-    }
-    fn accumulate(&mut self, _: &ForceContext, _: &mut [Vec3]) {
-        self.0.fetch_add(1, Ordering::Relaxed);
-    }
-    fn add_energy(&self, _: &ForceContext, _: &mut Energies) {}
-    fn linearize(&mut self, _: &ForceContext) -> Linearization {
-        Linearization::Exact
-    }
-    fn add_jacobian_products(
-        &self,
-        _: &ForceContext,
-        _: JacobianScale,
-        _: &[Vec3],
-        _: &mut [Vec3],
-    ) {
-    }
-    fn add_jacobian_diagonal(&self, _: &ForceContext, _: JacobianScale, _: &mut [Vec3]) {}
-}
 
 /// An inverse-square attraction of every particle towards the origin,
 /// `f = -μ m r̂ / r²` (μ in m³/s²), with its potential `-μ m / r`.
@@ -88,7 +62,10 @@ fn counted(kind: IntegratorKind, particle: BodyData) -> (World, Arc<AtomicUsize>
     let mut world = World::new(kind);
     world.add_body("p", particle).expect("valid particle");
     let count = Arc::new(AtomicUsize::new(0));
-    world.forces.push(Box::new(Counter(count.clone())));
+    let counter = Arc::clone(&count);
+    world.forces.push(Box::new(Watcher(Box::new(move || {
+        counter.fetch_add(1, Ordering::Relaxed);
+    }))));
     (world, count)
 }
 

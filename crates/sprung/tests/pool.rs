@@ -10,40 +10,9 @@ mod common;
 
 use std::sync::{Arc, Mutex};
 
-use common::rope;
-use sprung::forces::{Force, ForceContext, JacobianScale, Linearization};
-use sprung::measure::Energies;
+use common::{rope, Watcher};
 use sprung::parallel::{Pool, CHUNK};
-use sprung::{IntegratorKind, Vec3, World};
-
-/// Records the pool thread (its index in its pool, `None` outside any
-/// pool) each force evaluation runs on; adds no force.
-#[derive(Debug)]
-struct Where(Arc<Mutex<Vec<Option<usize>>>>);
-
-impl Force for Where {
-    fn name(&self) -> &'static str {
-        "where"
-    }
-    fn accumulate(&mut self, _: &ForceContext, _: &mut [Vec3]) {
-        if let Ok(mut seen) = self.0.lock() {
-            seen.push(rayon::current_thread_index());
-        }
-    }
-    fn add_energy(&self, _: &ForceContext, _: &mut Energies) {}
-    fn linearize(&mut self, _: &ForceContext) -> Linearization {
-        Linearization::Exact
-    }
-    fn add_jacobian_products(
-        &self,
-        _: &ForceContext,
-        _: JacobianScale,
-        _: &[Vec3],
-        _: &mut [Vec3],
-    ) {
-    }
-    fn add_jacobian_diagonal(&self, _: &ForceContext, _: JacobianScale, _: &mut [Vec3]) {}
-}
+use sprung::{IntegratorKind, World};
 
 /// A rope of `free` free particles under RK4 (four force evaluations a
 /// step) with the recorder.
@@ -52,7 +21,14 @@ fn world(free: usize, seen: &Arc<Mutex<Vec<Option<usize>>>>) -> World {
     world
         .add_body("rope", rope(free, 0.1, 100.0, 0.1))
         .unwrap_or_else(|e| panic!("{e}"));
-    world.forces.push(Box::new(Where(Arc::clone(seen))));
+    // Records the pool thread (its index in its pool, `None` outside any
+    // pool) each force evaluation runs on.
+    let record = Arc::clone(seen);
+    world.forces.push(Box::new(Watcher(Box::new(move || {
+        if let Ok(mut seen) = record.lock() {
+            seen.push(rayon::current_thread_index());
+        }
+    }))));
     world
 }
 

@@ -265,3 +265,41 @@ pub fn weightless(kind: IntegratorKind, name: &str, body: BodyData) -> World {
     world.add_body(name, body).expect("a valid body");
     world
 }
+
+/// A force that adds nothing and calls its closure at every evaluation (to
+/// count the evaluations, or see which thread runs them).
+pub struct Watcher(pub Box<dyn FnMut() + Send + Sync>);
+
+impl std::fmt::Debug for Watcher {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Watcher")
+    }
+}
+
+impl sprung::forces::Force for Watcher {
+    fn name(&self) -> &'static str {
+        "watcher"
+    }
+    fn accumulate(&mut self, _: &sprung::forces::ForceContext, _: &mut [Vec3]) {
+        (self.0)();
+    }
+    fn add_energy(&self, _: &sprung::forces::ForceContext, _: &mut sprung::measure::Energies) {}
+    fn linearize(&mut self, _: &sprung::forces::ForceContext) -> sprung::forces::Linearization {
+        sprung::forces::Linearization::Exact
+    }
+    fn add_jacobian_products(
+        &self,
+        _: &sprung::forces::ForceContext,
+        _: sprung::forces::JacobianScale,
+        _: &[Vec3],
+        _: &mut [Vec3],
+    ) {
+    }
+    fn add_jacobian_diagonal(
+        &self,
+        _: &sprung::forces::ForceContext,
+        _: sprung::forces::JacobianScale,
+        _: &mut [Vec3],
+    ) {
+    }
+}
