@@ -174,7 +174,7 @@ impl Sim {
         while self.debt >= dt {
             let owed = (self.debt / dt) as usize;
             let before = clock();
-            let (taken, ok) = self.step_batch(batch.clamp(1, owed.max(1)));
+            let (taken, ok) = self.step_batch(batch.min(owed.max(1)));
             for _ in 0..taken {
                 self.debt -= dt;
                 simulated += dt;

@@ -114,6 +114,13 @@ fn greedy_colours<const W: usize>(
         .collect()
 }
 
+/// How many groups took each colour (the last entry: [`LEFT`]).
+fn colour_counts(colour: &[usize]) -> [usize; LEFT + 1] {
+    let mut count = [0; LEFT + 1];
+    colour.iter().for_each(|&c| count[c] += 1);
+    count
+}
+
 impl<const W: usize> Default for Schedule<W> {
     fn default() -> Self {
         Schedule {
@@ -167,18 +174,19 @@ impl<const W: usize> Schedule<W> {
             let key: Vec<usize> = (0..members.len()).map(|e| e / COLOUR_PIECE).collect();
             let mut order: Vec<usize> = (0..pieces.len()).collect();
             order.sort_by_key(|&p| colour[p]);
-            let mut phases = Vec::with_capacity(colours);
-            for c in 0..colours {
-                let start = phases.last().map_or(0, |phase: &Range<usize>| phase.end);
-                let count = colour.iter().filter(|&&pc| pc == c).count();
-                phases.push(start..start + count);
-            }
+            // Greedy colours leave no colour below the highest unused.
+            let phases = colour_counts(&colour)[..colours]
+                .iter()
+                .scan(0, |start, &count| {
+                    *start += count;
+                    Some(*start - count..*start)
+                })
+                .collect();
             return Self::sorted(members, &key, order, phases);
         }
         let singles: Vec<Range<usize>> = (0..members.len()).map(|e| e..e + 1).collect();
         let colour = greedy_colours(&members, &singles, particles);
-        let mut count = [0usize; LEFT + 1];
-        colour.iter().for_each(|&c| count[c] += 1);
+        let count = colour_counts(&colour);
         // Blocks: each colour cut into COLOUR_BLOCK elements, the leftovers
         // one.
         let mut blocks = 0;
