@@ -437,13 +437,15 @@ impl World {
             report = report.then(self.integrate(h)?);
             self.advance_time(h);
             self.collide();
-            self.contacts.apply_friction(
-                &mut self.particles.position,
-                &mut self.particles.velocity,
-                &self.particles.mass,
-                &self.particles.inverse_mass,
-                h,
-            );
+            if let Some(contact_force) = self.forces.get::<BodyContacts>() {
+                self.contacts.apply_friction(
+                    contact_force.pushes(),
+                    &mut self.particles.position,
+                    &mut self.particles.velocity,
+                    &self.particles.inverse_mass,
+                    h,
+                );
+            }
             self.constrain(h);
         }
         if substeps > 1 {

@@ -12,16 +12,20 @@ use crate::{Real, Vec3};
 /// For a pair closer than the thickness `h` at distance `d` along the
 /// normal `n` (from the second side to the first), with relative velocity
 /// `u` of the closest points: a normal force `f_n = max(0, k (h - d) - c
-/// (u·n))` pushes the sides apart (friction acts as impulses after the
-/// step: [`super::Contacts::apply_friction`]). Jacobians: `-k n nᵀ` and
-/// `-c n nᵀ` on the relative motion of pairs that push (the turning of the
-/// normal left out: [`Linearization::Approximate`]).
+/// (u·n))` pushes the sides apart. Friction acts as impulses after the
+/// step, on the touches and normal forces of this force's last evaluation
+/// in the step: a world whose force list lacks this force has no friction
+/// between bodies either. Jacobians: `-k n nᵀ` and `-c n nᵀ` on the
+/// relative motion of pairs that push (the turning of the normal left out:
+/// [`Linearization::Approximate`]).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct BodyContacts {
     /// The pairs that pushed at the last linearisation.
     active: Vec<Active>,
     /// The touches of the last evaluation (kept for their buffers).
     touches: Touches,
+    /// The normal force (N) of each touch at the last evaluation.
+    pushes: Vec<Real>,
 }
 
 /// A pushing pair at the linearisation state.
@@ -38,6 +42,12 @@ impl BodyContacts {
     /// Body contacts with nothing linearised yet.
     pub fn new() -> Self {
         BodyContacts::default()
+    }
+
+    /// The touches of the last evaluation, with the normal force (N) each
+    /// pushed with.
+    pub(crate) fn pushes(&self) -> impl Iterator<Item = (&Touch, Real)> {
+        self.touches.iter().zip(self.pushes.iter().copied())
     }
 }
 
@@ -60,11 +70,13 @@ impl Force for BodyContacts {
             context.position,
             contacts.settings.thickness,
         );
+        self.pushes.clear();
         for touch in self.touches.iter() {
             let (k, c) = coefficients(context, touch);
             let normal_speed = touch.relative(context.velocity).dot(touch.normal);
             let push = (k * touch.depth - c * normal_speed).max(0.0);
             touch.apply(push * touch.normal, force);
+            self.pushes.push(push);
         }
     }
 

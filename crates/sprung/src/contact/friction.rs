@@ -4,33 +4,41 @@
 //! sliding speed, which lets a resting body creep downhill (and, steep
 //! enough to stop the creep, limits the explicit step). So friction acts on
 //! velocities instead, once per (sub)step after the integrator, the way the
-//! projection colliders' does: for each pair in contact, with normal force
-//! `f_n = max(0, k (h - d) - c (u·n))`, the relative tangential velocity
-//! `u_t` of its two closest points is reduced by the tangential impulse
-//! `J = min(|u_t| / W, μ f_n dt)` along `-u_t`, where `W = Σ wᵢ² / mᵢ` is the
-//! pair's inverse effective mass. Below the friction cone the sliding stops
-//! exactly (static friction); above it, the impulse is Coulomb's `μ f_n dt`.
+//! projection colliders' does. It acts on the touches of the contact
+//! force's last evaluation in the (sub)step ([`BodyContacts`]), each with
+//! the normal force `f_n` it pushed with: the relative tangential velocity
+//! `u_t` of the two closest points, after the step, is reduced by the
+//! tangential impulse `J = min(|u_t| / W, μ f_n dt)` along `-u_t`, where `W
+//! = Σ wᵢ² / mᵢ` is the pair's inverse effective mass. So each step's
+//! friction impulse is at most `μ` times the normal impulse the step gave
+//! (Coulomb's law for impulses); below the friction cone the sliding stops
+//! exactly (static friction). Taking the force's touches rather than
+//! measuring the pairs again after the step halves the cost of measuring
+//! contacts; every integrator evaluates the forces at least once a step.
 //! The impulse is shared by the closest-point weights, opposite on the two
 //! sides (the weights sum to zero), so linear momentum is conserved. The
 //! positions move by the velocity change times `dt` too, as if the impulse
 //! had acted at the start of the (sub)step: otherwise each step's sliding,
 //! taken before the friction stops it, would add up to a steady creep of a
-//! resting body (`g sin θ dt` per second on a slope). The pairs are all
-//! measured at the positions the step left (in parallel), then taken in
-//! their fixed order, each seeing the velocities the earlier ones left.
+//! resting body (`g sin θ dt` per second on a slope). The touches are taken
+//! in their fixed order, each seeing the velocities the earlier ones left.
+//!
+//! [`BodyContacts`]: super::BodyContacts
 
+use super::pairs::Touch;
 use super::Contacts;
 use crate::{Real, Vec3};
 
 impl Contacts {
-    /// Apply friction impulses to `velocity` (m/s) for the pairs touching at
-    /// `position` (m) over a (sub)step of `dt` (s), moving the positions by
-    /// the velocity change times `dt`.
-    pub fn apply_friction(
-        &mut self,
+    /// Apply friction impulses to `velocity` (m/s) for the touches of
+    /// `pushes`, each with the normal force (N) it pushed with over a
+    /// (sub)step of `dt` (s), moving `position` (m) by the velocity change
+    /// times `dt`.
+    pub(crate) fn apply_friction<'a>(
+        &self,
+        pushes: impl Iterator<Item = (&'a Touch, Real)>,
         position: &mut [Vec3],
         velocity: &mut [Vec3],
-        mass: &[Real],
         inverse_mass: &[Real],
         dt: Real,
     ) {
@@ -38,15 +46,9 @@ impl Contacts {
         if friction == 0.0 || self.pairs.is_empty() {
             return;
         }
-        let touches = &mut self.touches;
-        touches.measure(&self.pairs, position, self.settings.thickness);
-        for touch in touches.iter() {
-            let (k, c) = self
-                .settings
-                .coefficients(mass[touch.particles[0] as usize]);
+        for (touch, push) in pushes {
             let relative = touch.relative(velocity);
             let normal_speed = relative.dot(touch.normal);
-            let push = (k * touch.depth - c * normal_speed).max(0.0);
             let sliding = relative - normal_speed * touch.normal;
             let speed = sliding.length();
             let inverse_effective_mass: Real = (0..touch.count)

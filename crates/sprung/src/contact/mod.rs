@@ -10,9 +10,10 @@
 //! of the element by the weights of the closest point, with the opposite
 //! force on the other side, so linear momentum is conserved exactly.
 //! Coulomb friction on the relative tangential velocity acts as impulses
-//! after each step ([`Contacts::apply_friction`]): it holds a body at rest
-//! below the friction angle, which a friction force that depends on the
-//! sliding speed cannot.
+//! after each step, on the touches the penalty force last pushed with,
+//! each impulse at most `μ` times the step's normal impulse: it holds a
+//! body at rest below the friction angle, which a friction force that
+//! depends on the sliding speed cannot.
 //!
 //! Why penalty rather than impulses or projection: a penalty contact is a
 //! force, so it is one more entry of the world's force list. It works
@@ -153,6 +154,4 @@ pub struct Contacts {
     scratch: detect::Scratch,
     found: detect::Found,
     links: links::Links,
-    /// The touches friction acts on, measured before it acts.
-    touches: pairs::Touches,
 }
