@@ -39,6 +39,7 @@ macro_rules! vectorised {
 
 pub mod body;
 pub mod build;
+mod cache;
 pub mod collide;
 pub mod constrain;
 pub mod contact;

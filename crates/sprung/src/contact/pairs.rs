@@ -240,12 +240,20 @@ impl ContactPairs {
                 &self.point_triangle[range],
                 |pair| (pair.particle, pair.body),
                 |pair| pair.touch(position, thickness),
+                |pair| {
+                    for i in pair.triangle {
+                        if let Some(x) = position.get(i as usize) {
+                            crate::cache::prefetch(x);
+                        }
+                    }
+                },
                 touch,
             ),
             Kind::PointSegment => closest_per_body(
                 &self.point_segment[range],
                 |pair| (pair.particle, pair.body),
                 |pair| pair.touch(position, thickness),
+                |_| {},
                 touch,
             ),
             Kind::EdgeEdge => {
@@ -359,6 +367,9 @@ impl Touches {
     }
 }
 
+/// How many pairs ahead [`closest_per_body`] asks for the particles' positions.
+const PREFETCH_PAIRS: usize = 16;
+
 /// Call `touch` with the deepest touch of each run of `pairs` that share a
 /// particle and a body (`key`), measured by `measure`. The detect stage
 /// writes a particle's pairs one after another, so a run is contiguous.
@@ -366,15 +377,22 @@ fn closest_per_body<P>(
     pairs: &[P],
     key: impl Fn(&P) -> (u32, u32),
     measure: impl Fn(&P) -> Option<Touch>,
+    prefetch: impl Fn(&P),
     touch: &mut impl FnMut(Touch),
 ) {
     let mut start = 0;
+    let mut fetched = 0;
     while start < pairs.len() {
         let particle = key(&pairs[start]).0;
         let mut end = start;
         while end < pairs.len() && key(&pairs[end]).0 == particle {
             end += 1;
         }
+        let ahead = (end + PREFETCH_PAIRS).min(pairs.len());
+        for pair in &pairs[fetched.max(end)..ahead] {
+            prefetch(pair);
+        }
+        fetched = ahead;
         // Within the particle's run, the deepest touch of each body, bodies
         // in the order they first appear.
         for (first, pair) in pairs[start..end].iter().enumerate() {

@@ -412,25 +412,13 @@ impl<T: Copy + AddAssign, const W: usize> Block<'_, T, W> {
     /// into the cache ahead of their use; nothing past the block.
     #[inline(always)]
     pub fn prefetch(&self, e: usize) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-            if let Some(members) = self.members.get(e) {
-                let element = self.element.and_then(|element| element.get(e));
-                // SAFETY: a prefetch is a hint that reads nothing and
-                // never faults; the addresses are of live entries anyway.
-                #[allow(unsafe_code)]
-                unsafe {
-                    _mm_prefetch::<_MM_HINT_T0>(members.as_ptr().cast());
-                    _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(&self.run[e]).cast());
-                    if let Some(element) = element {
-                        _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(element).cast());
-                    }
-                }
+        if let Some(members) = self.members.get(e) {
+            crate::cache::prefetch(members);
+            crate::cache::prefetch(&self.run[e]);
+            if let Some(element) = self.element.and_then(|element| element.get(e)) {
+                crate::cache::prefetch(element);
             }
         }
-        #[cfg(not(target_arch = "x86_64"))]
-        let _ = e;
     }
 
     /// The block's elements' particles, in order.
