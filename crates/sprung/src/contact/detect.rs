@@ -3,6 +3,7 @@
 use super::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
 use super::grid::Grid;
 use super::links::Links;
+use super::pairs::beyond;
 use super::{ContactSettings, Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
 use crate::body::{Body, BodyContact};
 use crate::parallel;
@@ -112,17 +113,19 @@ fn overlap(a: (Vec3, Vec3), b: (Vec3, Vec3)) -> bool {
 }
 
 impl Scratch {
-    /// Whether the pairs of the last search still hold every pair that can
-    /// touch in a step whose closing distance is `closing` (m): same
-    /// particles and settings, and twice the largest distance moved since,
-    /// plus `closing`, within the margin searched.
+    /// How much closer (m) two elements can have come since the last
+    /// search by the end of a step whose closing distance is `closing` (m):
+    /// twice the largest distance a particle has moved since, plus
+    /// `closing`. `None` when that is more than the margin searched (the
+    /// pairs of the last search may then miss one that touches), or the
+    /// particles or settings are not those of the search.
     fn still_covers(
         &self,
         bodies: &[Body],
         position: &[Vec3],
         closing: Real,
         settings: &ContactSettings,
-    ) -> bool {
+    ) -> Option<Real> {
         let same_bodies = self.searched_flags.len() == bodies.len()
             && self
                 .searched_flags
@@ -133,7 +136,7 @@ impl Scratch {
             || self.searched_at.len() != position.len()
             || self.searched_settings != Some(*settings)
         {
-            return false;
+            return None;
         }
         let moved = parallel::max(position.len(), |range| {
             position[range.clone()]
@@ -143,7 +146,8 @@ impl Scratch {
                 .fold(0.0, Real::max)
         })
         .sqrt();
-        2.0 * moved + closing <= self.searched_margin
+        let allowance = 2.0 * moved + closing;
+        (allowance <= self.searched_margin).then_some(allowance)
     }
 
     /// The margin (m) and the positions (m) of the last search, if any.
@@ -632,13 +636,15 @@ impl Contacts {
         // anyway (its force acts within the thickness); searching further
         // would only gather every particle of a blowing-up scene.
         let closing = (2.0 * dt * speed).min(MAX_CLOSING * self.settings.thickness);
-        if self
+        let covered = self
             .scratch
-            .still_covers(bodies, position, closing, &self.settings)
-        {
+            .still_covers(bodies, position, closing, &self.settings);
+        if let Some(allowance) = covered {
+            self.pairs.allowance = allowance;
             return;
         }
         self.pairs.clear();
+        self.pairs.allowance = closing;
         let Contacts {
             pairs,
             scratch,
@@ -647,8 +653,9 @@ impl Contacts {
             links,
             ..
         } = self;
-        let margin = settings.thickness + closing;
-        let reach = settings.thickness + margin;
+        let thickness = settings.thickness;
+        let margin = thickness + closing;
+        let reach = thickness + margin;
         scratch.searched(bodies, position, margin, settings);
         // Edges against edges only where a surface is open (closed ones
         // are kept apart by their particles and triangles alone).
@@ -682,8 +689,13 @@ impl Contacts {
                     triangle: [a, b, c],
                     body,
                     side,
+                    clearance: 0.0,
                 };
-                pair.touch(position, reach).is_some().then_some(pair)
+                let distance = reach - pair.touch(position, reach)?.depth;
+                Some(PointTriangle {
+                    clearance: beyond(distance, thickness),
+                    ..pair
+                })
             },
         );
         search.particles_against(
@@ -706,8 +718,13 @@ impl Contacts {
                     segment: [a, b],
                     body,
                     side,
+                    clearance: 0.0,
                 };
-                pair.touch(position, reach).is_some().then_some(pair)
+                let distance = reach - pair.touch(position, reach)?.depth;
+                Some(PointSegment {
+                    clearance: beyond(distance, thickness),
+                    ..pair
+                })
             },
         );
         search.among(
@@ -734,6 +751,7 @@ impl Contacts {
                     first: [p1, q1],
                     second: [p2, q2],
                     direction,
+                    clearance: beyond(distance, thickness),
                 })
             },
         );
@@ -749,6 +767,7 @@ impl Contacts {
                     first,
                     second,
                     direction: gap / distance,
+                    clearance: beyond(distance, thickness),
                 })
             },
         );

@@ -44,7 +44,14 @@
 //! particle, then element), so the pairs are the same whatever the number
 //! of threads. The penalty force ([`BodyContacts`]) evaluates only those
 //! pairs, at every trial state the integrator asks for, measuring them in
-//! parallel and adding their forces in the pairs' order.
+//! parallel and adding their forces in the pairs' order. Each pair keeps
+//! its *clearance*, how far beyond the thickness it was when found, and
+//! each step the detect stage sets the *allowance*, how much closer any
+//! two elements can have come since (twice the farthest a particle has
+//! moved since the search, plus the step's closing distance): a pair whose
+//! clearance is larger cannot touch in the step, and is passed over
+//! without reading its positions. Most candidates of a cloth lying in
+//! folds are such pairs.
 //!
 //! **Sides.** A closed surface pushes along its outward normal, so a
 //! particle that got inside is pushed out. An open surface (cloth) pushes

@@ -5,6 +5,7 @@
 //! the same bits while bodies touch.
 
 use super::detect::Scratch;
+use super::pairs::beyond;
 use super::{Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
 use crate::body::Body;
 use crate::state::{StateError, WorldState};
@@ -117,6 +118,7 @@ impl Contacts {
                 triangle: [i(1)?, i(2)?, i(3)?],
                 body: index("contact.point_triangle", r, 4, bodies.len())?,
                 side: r[5],
+                clearance: 0.0,
             });
         }
         for r in rows("contact.point_segment", 5)? {
@@ -126,6 +128,7 @@ impl Contacts {
                 segment: [i(1)?, i(2)?],
                 body: index("contact.point_segment", r, 3, bodies.len())?,
                 side: r[4],
+                clearance: 0.0,
             });
         }
         for r in rows("contact.edge_edge", 7)? {
@@ -134,6 +137,7 @@ impl Contacts {
                 first: [i(0)?, i(1)?],
                 second: [i(2)?, i(3)?],
                 direction: Vec3::new(r[4], r[5], r[6]),
+                clearance: 0.0,
             });
         }
         for r in rows("contact.point_point", 5)? {
@@ -142,7 +146,28 @@ impl Contacts {
                 first: i(0)?,
                 second: i(1)?,
                 direction: Vec3::new(r[2], r[3], r[4]),
+                clearance: 0.0,
             });
+        }
+        // The clearances, from the positions of the search as it found
+        // them (the pairs' measures skip none until the next detect stage
+        // sets the allowance).
+        if let Some(margin) = margin {
+            let thickness = self.settings.thickness;
+            let reach = thickness + margin;
+            for p in &mut pairs.point_triangle {
+                p.clearance = p.clearance_at(&at, thickness, reach);
+            }
+            for p in &mut pairs.point_segment {
+                p.clearance = p.clearance_at(&at, thickness, reach);
+            }
+            for p in &mut pairs.edge_edge {
+                p.clearance = beyond(p.distance_at(&at), thickness);
+            }
+            for p in &mut pairs.point_point {
+                let gap = at[p.first as usize] - at[p.second as usize];
+                p.clearance = beyond(gap.length(), thickness);
+            }
         }
         self.pairs = pairs;
         match margin {
