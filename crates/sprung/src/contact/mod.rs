@@ -48,7 +48,8 @@
 //! its *clearance*, how far beyond the thickness it was when found, and
 //! each step the detect stage sets the *allowance*, how much closer any
 //! two elements can have come since (twice the farthest a particle has
-//! moved since the search, plus the step's closing distance): a pair whose
+//! moved since the search, counted from a common move, plus the step's
+//! closing distance): a pair whose
 //! clearance is larger cannot touch in the step, and is passed over
 //! without reading its positions. Most candidates of a cloth lying in
 //! folds are such pairs.

@@ -186,6 +186,24 @@ pub fn max(len: usize, f: impl Fn(Range<usize>) -> Real + Sync) -> Real {
         .reduce(|| 0.0, Real::max)
 }
 
+/// `f(chunk)` over the chunks of `0..len`, in parallel, combined by
+/// `merge` from `empty` (which must not depend on the order it is taken
+/// in: a maximum, a bounding box), so the same whatever the threads.
+pub fn merge_chunks<T: Send + Sync + Clone>(
+    len: usize,
+    empty: T,
+    f: impl Fn(Range<usize>) -> T + Sync,
+    merge: impl Fn(T, T) -> T + Sync + Send,
+) -> T {
+    if len <= CHUNK {
+        return merge(empty, f(0..len));
+    }
+    (0..len.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| f(c * CHUNK..((c + 1) * CHUNK).min(len)))
+        .reduce(|| empty.clone(), merge)
+}
+
 /// The lowest `i < len` for which `f(i)` is something, with it: the same
 /// one whatever the number of threads.
 pub fn find_first<T: Send>(
