@@ -3,7 +3,7 @@
 use super::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
 use super::grid::Grid;
 use super::links::Links;
-use super::pairs::beyond;
+use super::pairs::{beyond, CLEARANCE_BUCKETS};
 use super::{ContactSettings, Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
 use crate::body::{Body, BodyContact};
 use crate::parallel;
@@ -68,6 +68,8 @@ pub(super) struct Found {
     point_segment: Vec<Vec<PointSegment>>,
     edge_edge: Vec<Vec<EdgeEdge>>,
     point_point: Vec<Vec<PointPoint>>,
+    /// A buffer to put the edge–edge pairs in buckets.
+    edge_spare: Vec<EdgeEdge>,
 }
 
 /// Something of a colliding body that may meet another body (or its own),
@@ -805,6 +807,8 @@ impl Contacts {
                 })
             },
         );
+        // Clearances lie within the margin.
+        pairs.bucket_edges(margin / CLEARANCE_BUCKETS as Real, &mut found.edge_spare);
         search.among(
             scratch,
             |s| &s.loose,

@@ -5,7 +5,7 @@
 //! the same bits while bodies touch.
 
 use super::detect::Scratch;
-use super::pairs::beyond;
+use super::pairs::{beyond, CLEARANCE_BUCKETS};
 use super::{Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
 use crate::body::Body;
 use crate::state::{StateError, WorldState};
@@ -168,6 +168,8 @@ impl Contacts {
                 let gap = at[p.first as usize] - at[p.second as usize];
                 p.clearance = beyond(gap.length(), thickness);
             }
+            let mut spare = Vec::new();
+            pairs.bucket_edges(margin / CLEARANCE_BUCKETS as Real, &mut spare);
         }
         self.pairs = pairs;
         match margin {
