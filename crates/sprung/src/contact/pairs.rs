@@ -547,14 +547,18 @@ fn closest_per_body<P>(
             if pairs[start..start + first].iter().any(|p| key(p).1 == body) {
                 continue;
             }
-            let deepest = pairs[start + first..end]
-                .iter()
-                .filter(|p| key(p).1 == body)
-                .filter_map(&measure)
-                .fold(None, |best: Option<Touch>, t| match best {
-                    Some(b) if b.depth >= t.depth => Some(b),
-                    _ => Some(t),
-                });
+            // Of equally deep touches, the first.
+            let mut deepest: Option<Touch> = None;
+            for p in &pairs[start + first..end] {
+                if key(p).1 != body {
+                    continue;
+                }
+                if let Some(t) = measure(p) {
+                    if deepest.is_none_or(|b| t.depth > b.depth) {
+                        deepest = Some(t);
+                    }
+                }
+            }
             if let Some(t) = deepest {
                 touch(t);
             }
