@@ -1,9 +1,10 @@
 //! The detect stage: candidate pairs for one step from a uniform grid.
 
+use super::buckets::CLEARANCE_BUCKETS;
 use super::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
 use super::grid::Grid;
 use super::links::Links;
-use super::pairs::{beyond, CLEARANCE_BUCKETS};
+use super::pairs::{beyond, Spare};
 use super::{ContactSettings, Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
 use crate::body::{Body, BodyContact};
 use crate::parallel;
@@ -68,8 +69,8 @@ pub(super) struct Found {
     point_segment: Vec<Vec<PointSegment>>,
     edge_edge: Vec<Vec<EdgeEdge>>,
     point_point: Vec<Vec<PointPoint>>,
-    /// A buffer to put the edge–edge pairs in buckets.
-    edge_spare: Vec<EdgeEdge>,
+    /// Buffers to put the pairs in buckets of clearance.
+    spare: Spare,
 }
 
 /// Something of a colliding body that may meet another body (or its own),
@@ -807,8 +808,6 @@ impl Contacts {
                 })
             },
         );
-        // Clearances lie within the margin.
-        pairs.bucket_edges(margin / CLEARANCE_BUCKETS as Real, &mut found.edge_spare);
         search.among(
             scratch,
             |s| &s.loose,
@@ -825,6 +824,8 @@ impl Contacts {
                 })
             },
         );
+        // Clearances lie within the margin.
+        pairs.bucket(margin / CLEARANCE_BUCKETS as Real, &mut found.spare);
     }
 }
 

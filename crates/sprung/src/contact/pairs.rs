@@ -2,6 +2,7 @@
 //! particles of its two sides with the weights of their closest points,
 //! the normal, and how deep inside the thickness they are.
 
+use super::buckets::Buckets;
 use super::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
 use std::ops::Range;
 
@@ -164,6 +165,15 @@ pub(crate) fn beyond(distance: Real, thickness: Real) -> Real {
     (distance - thickness).max(0.0)
 }
 
+/// Buffers to sort the lists of pairs into buckets.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct Spare {
+    point_triangle: Vec<PointTriangle>,
+    point_segment: Vec<PointSegment>,
+    edge_edge: Vec<EdgeEdge>,
+    point_point: Vec<PointPoint>,
+}
+
 /// The candidate pairs of a step.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactPairs {
@@ -182,8 +192,8 @@ pub struct ContactPairs {
     /// measured. Infinite (every pair measured) until the detect stage
     /// sets it.
     pub allowance: Real,
-    /// Where the edge–edge pairs of each bucket of clearance start.
-    edge_buckets: Buckets,
+    /// Where the buckets of clearance of each list start, by [`Kind`].
+    buckets: [Buckets; 4],
 }
 
 impl Default for ContactPairs {
@@ -194,42 +204,7 @@ impl Default for ContactPairs {
             edge_edge: Vec::new(),
             point_point: Vec::new(),
             allowance: Real::INFINITY,
-            edge_buckets: Buckets::default(),
-        }
-    }
-}
-
-/// How many buckets of clearance the edge–edge pairs are kept in.
-pub(crate) const CLEARANCE_BUCKETS: usize = 8;
-
-/// Pairs kept nearest first, in buckets of clearance, so that a measure
-/// reads only the buckets the allowance reaches (a cloth lying in folds
-/// has hundreds of thousands of edge–edge candidates, nearly all farther
-/// than the allowance).
-#[derive(Debug, Clone, Default, PartialEq)]
-struct Buckets {
-    /// Width (m) of a bucket; zero when the pairs are not in buckets.
-    width: Real,
-    /// The pairs of bucket `b` are `start[b]..start[b + 1]`.
-    start: [usize; CLEARANCE_BUCKETS + 1],
-}
-
-impl Buckets {
-    /// The bucket of a pair of clearance `clearance` (m).
-    fn of(&self, clearance: Real) -> usize {
-        ((clearance / self.width) as usize).min(CLEARANCE_BUCKETS - 1)
-    }
-
-    /// How many of the `len` pairs a measure with `allowance` (m) must
-    /// read: the buckets up to that of the allowance (every pair when they
-    /// are not in buckets, or have changed since).
-    fn reached(&self, allowance: Real, len: usize) -> usize {
-        if self.width <= 0.0 || self.width.is_nan() || self.start[CLEARANCE_BUCKETS] != len {
-            return len;
-        }
-        match (allowance / self.width) as usize {
-            b if b < CLEARANCE_BUCKETS => self.start[b + 1],
-            _ => len,
+            buckets: Default::default(),
         }
     }
 }
@@ -241,37 +216,46 @@ impl ContactPairs {
         self.point_segment.clear();
         self.edge_edge.clear();
         self.point_point.clear();
-        self.edge_buckets = Buckets::default();
+        self.buckets = Default::default();
     }
 
-    /// Put the edge–edge pairs in buckets of clearance `width` (m) wide,
-    /// nearest first, each bucket's pairs in the order they had (`spare`
-    /// is a buffer).
-    pub(crate) fn bucket_edges(&mut self, width: Real, spare: &mut Vec<EdgeEdge>) {
-        let mut buckets = Buckets {
-            width,
-            start: [0; CLEARANCE_BUCKETS + 1],
-        };
-        if width <= 0.0 || width.is_nan() {
-            self.edge_buckets = Buckets::default();
-            return;
-        }
-        for pair in &self.edge_edge {
-            buckets.start[buckets.of(pair.clearance) + 1] += 1;
-        }
-        for b in 0..CLEARANCE_BUCKETS {
-            buckets.start[b + 1] += buckets.start[b];
-        }
-        let mut next = buckets.start;
-        spare.clear();
-        spare.extend_from_slice(&self.edge_edge);
-        for pair in &self.edge_edge {
-            let b = buckets.of(pair.clearance);
-            spare[next[b]] = *pair;
-            next[b] += 1;
-        }
-        std::mem::swap(&mut self.edge_edge, spare);
-        self.edge_buckets = buckets;
+    /// Put every list of pairs in buckets of clearance `width` (m) wide,
+    /// nearest first ([`Buckets::sort`]): single pairs of edges and of
+    /// particles, and each particle's run of particle–element pairs as a
+    /// whole (`spare` holds the buffers).
+    pub(crate) fn bucket(&mut self, width: Real, spare: &mut Spare) {
+        let particle = |a: &PointTriangle, b: &PointTriangle| a.particle == b.particle;
+        let in_2d = |a: &PointSegment, b: &PointSegment| a.particle == b.particle;
+        self.buckets = [
+            Buckets::sort(
+                &mut self.point_triangle,
+                width,
+                |p| p.clearance,
+                particle,
+                &mut spare.point_triangle,
+            ),
+            Buckets::sort(
+                &mut self.point_segment,
+                width,
+                |p| p.clearance,
+                in_2d,
+                &mut spare.point_segment,
+            ),
+            Buckets::sort(
+                &mut self.edge_edge,
+                width,
+                |p| p.clearance,
+                |_, _| false,
+                &mut spare.edge_edge,
+            ),
+            Buckets::sort(
+                &mut self.point_point,
+                width,
+                |p| p.clearance,
+                |_, _| false,
+                &mut spare.point_point,
+            ),
+        ];
     }
 
     /// Number of candidate pairs.
@@ -329,14 +313,13 @@ impl ContactPairs {
 
     /// The number of pairs of `kind`.
     fn len_of(&self, kind: Kind) -> usize {
-        match kind {
+        let len = match kind {
             Kind::PointTriangle => self.point_triangle.len(),
             Kind::PointSegment => self.point_segment.len(),
-            Kind::EdgeEdge => self
-                .edge_buckets
-                .reached(self.allowance, self.edge_edge.len()),
+            Kind::EdgeEdge => self.edge_edge.len(),
             Kind::PointPoint => self.point_point.len(),
-        }
+        };
+        self.buckets[kind as usize].reached(self.allowance, len)
     }
 
     /// Whether the pairs of `kind` may be cut before pair `i` (`0 < i <
@@ -641,6 +624,7 @@ fn apart(gap: Vec3, direction: Vec3, thickness: Real) -> Option<(Vec3, Real)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::buckets::CLEARANCE_BUCKETS;
 
     /// xorshift64*: numbers uniform in [-1, 1), the same on every run.
     struct Random(u64);
@@ -819,53 +803,89 @@ mod tests {
 
     #[test]
     fn buckets_of_clearance_hold_every_pair_an_allowance_reaches() {
-        // Claim: after the edge–edge pairs are put in buckets of
-        // clearance, the pairs a measure reads for an allowance (a prefix)
-        // hold every pair whose clearance is within it, each bucket keeps
-        // the pairs' order, and no pair is lost.
+        // Claim: after the pairs are put in buckets of clearance, the pairs
+        // a measure reads for an allowance (a prefix of each list) hold
+        // every pair whose clearance is within it; no pair is lost; the
+        // pairs keep their order within a bucket; and a particle's run of
+        // point–triangle pairs stays whole, in the bucket of its nearest.
         let mut random = Random(0xb0c5);
         let width = 0.02 / CLEARANCE_BUCKETS as Real;
-        let mut pairs = ContactPairs::default();
-        for i in 0..5000u32 {
-            let clearance = if i % 7 == 0 {
+        let mut clearance = move |i: u32| {
+            if i.is_multiple_of(7) {
                 0.0
             } else {
                 0.01 * (random.symmetric() + 1.0)
-            };
+            }
+        };
+        let mut pairs = ContactPairs::default();
+        for i in 0..5000u32 {
             pairs.edge_edge.push(EdgeEdge {
                 first: [i, i + 1],
                 second: [i + 2, i + 3],
                 direction: Vec3::X,
-                clearance,
+                clearance: clearance(i),
+            });
+            // Runs of one to four pairs a particle.
+            pairs.point_triangle.push(PointTriangle {
+                particle: i / 4 * 4 + (i % 4).min(i / 4 % 3),
+                triangle: [i, i + 1, i + 2],
+                body: 1,
+                side: 1.0,
+                clearance: clearance(i),
             });
         }
-        let before = pairs.edge_edge.clone();
-        pairs.bucket_edges(width, &mut Vec::new());
+        let before = pairs.clone();
+        pairs.bucket(width, &mut Spare::default());
+        let buckets = &pairs.buckets;
+        // Edges: nothing lost, buckets in order, order kept within one.
         let mut sorted = pairs.edge_edge.clone();
         sorted.sort_by_key(|p| p.first[0]);
-        assert_eq!(sorted, before);
-        for b in pairs.edge_edge.windows(2) {
-            let (first, second) = (
-                pairs.edge_buckets.of(b[0].clearance),
-                pairs.edge_buckets.of(b[1].clearance),
-            );
-            assert!(first < second || (first == second && b[0].first[0] < b[1].first[0]));
+        assert_eq!(sorted, before.edge_edge);
+        let bucket = buckets[Kind::EdgeEdge as usize].clone();
+        for w in pairs.edge_edge.windows(2) {
+            let (a, b) = (bucket.of(w[0].clearance), bucket.of(w[1].clearance));
+            assert!(a < b || (a == b && w[0].first[0] < w[1].first[0]));
         }
+        // Triangles: each particle's run whole and in its original order.
+        let mut sorted = pairs.point_triangle.clone();
+        sorted.sort_by_key(|p| p.triangle[0]);
+        assert_eq!(sorted, before.point_triangle);
+        for w in pairs.point_triangle.windows(2) {
+            if w[0].particle == w[1].particle {
+                assert_eq!(w[0].triangle[0] + 1, w[1].triangle[0]);
+            }
+        }
+        let runs = before
+            .point_triangle
+            .chunk_by(|a, b| a.particle == b.particle)
+            .count();
+        let kept = pairs
+            .point_triangle
+            .chunk_by(|a, b| a.particle == b.particle)
+            .count();
+        assert_eq!(runs, kept);
         for allowance in [0.0, 1e-4, 0.0025, 0.003, 0.01, 0.0199, 0.02, 1.0] {
             pairs.allowance = allowance;
-            let reached = pairs.len_of(Kind::EdgeEdge);
-            let within = pairs
-                .edge_edge
-                .iter()
-                .filter(|p| p.clearance <= allowance)
-                .count();
-            assert!(pairs.edge_edge[reached..]
-                .iter()
-                .all(|p| p.clearance > allowance));
-            assert!(reached >= within && reached <= pairs.edge_edge.len());
+            for (kind, list) in [
+                (
+                    Kind::EdgeEdge,
+                    pairs
+                        .edge_edge
+                        .iter()
+                        .map(|p| p.clearance)
+                        .collect::<Vec<_>>(),
+                ),
+                (
+                    Kind::PointTriangle,
+                    pairs.point_triangle.iter().map(|p| p.clearance).collect(),
+                ),
+            ] {
+                let reached = pairs.len_of(kind);
+                assert!(list[reached..].iter().all(|&c| c > allowance), "{kind:?}");
+            }
         }
         // Pairs added after the buckets were made are all read.
-        pairs.edge_edge.push(before[1]);
+        pairs.edge_edge.push(before.edge_edge[1]);
         pairs.allowance = 0.0;
         assert_eq!(pairs.len_of(Kind::EdgeEdge), pairs.edge_edge.len());
     }

@@ -4,8 +4,9 @@
 //! and the margin. A resumed run has the same pairs, so it goes on with
 //! the same bits while bodies touch.
 
+use super::buckets::CLEARANCE_BUCKETS;
 use super::detect::Scratch;
-use super::pairs::{beyond, CLEARANCE_BUCKETS};
+use super::pairs::{beyond, Spare};
 use super::{Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
 use crate::body::Body;
 use crate::state::{StateError, WorldState};
@@ -168,8 +169,7 @@ impl Contacts {
                 let gap = at[p.first as usize] - at[p.second as usize];
                 p.clearance = beyond(gap.length(), thickness);
             }
-            let mut spare = Vec::new();
-            pairs.bucket_edges(margin / CLEARANCE_BUCKETS as Real, &mut spare);
+            pairs.bucket(margin / CLEARANCE_BUCKETS as Real, &mut Spare::default());
         }
         self.pairs = pairs;
         match margin {
