@@ -828,7 +828,8 @@ impl World {
 
     /// Number of contact pairs between bodies closer than the contact
     /// thickness at the current state (among the candidates of the last
-    /// detect stage).
+    /// detect stage that its allowance reaches: a state far from the last
+    /// step's, set by hand, may count fewer).
     pub fn active_contacts(&self) -> usize {
         let mut count = 0;
         self.contacts.pairs.for_each_touch(

@@ -58,6 +58,10 @@ pub(super) struct Scratch {
     /// search.
     searched_settings: Option<ContactSettings>,
     searched_flags: Vec<BodyContact>,
+    /// The velocities (m/s) and the step (s) of the last detect stage, to
+    /// tell how much the velocities change in a step (empty before any).
+    last_velocity: Vec<Vec3>,
+    last_dt: Real,
 }
 
 /// What the pair search found per chunk of elements, before it is put in
@@ -177,11 +181,31 @@ impl Spread {
 }
 
 impl Scratch {
+    /// Twice the [`Spread`] of the colliding particles' velocity changes
+    /// (m/s) since the last detect stage, scaled from that stage's step to
+    /// `dt` (s); `None` when there is no last stage for these particles.
+    /// Remembers `velocity` (m/s) and `dt` for the next stage.
+    fn velocity_change(&mut self, bodies: &[Body], velocity: &[Vec3], dt: Real) -> Option<Real> {
+        let last = &self.last_velocity;
+        let change = (last.len() == velocity.len() && self.last_dt > 0.0).then(|| {
+            let spread = colliding_runs(bodies)
+                .map(|run| Spread::of(run.len(), |i| velocity[run.start + i] - last[run.start + i]))
+                .fold(Spread::NONE, Spread::merge)
+                .bound();
+            2.0 * spread * dt / self.last_dt
+        });
+        self.last_velocity.clear();
+        self.last_velocity.extend_from_slice(velocity);
+        self.last_dt = dt;
+        change
+    }
+
     /// How much closer (m) two elements can have come since the last
     /// search by the end of a step whose closing distance is `closing` (m):
-    /// twice the [`Spread`] of the particles' moves since, plus `closing`. `None` when that is more than the margin searched (the
-    /// pairs of the last search may then miss one that touches), or the
-    /// particles or settings are not those of the search.
+    /// twice the [`Spread`] of the particles' moves since, plus `closing`.
+    /// `None` when that is more than the margin searched (the pairs of the
+    /// last search may then miss one that touches), or the particles or
+    /// settings are not those of the search.
     fn still_covers(
         &self,
         bodies: &[Body],
@@ -677,6 +701,7 @@ impl Contacts {
         if !self.settings.enabled || (colliding < 2 && !self_colliding) {
             self.pairs.clear();
             self.scratch.searched_at.clear();
+            self.scratch.last_velocity.clear();
             return;
         }
         // One common velocity for every colliding particle.
@@ -689,15 +714,26 @@ impl Contacts {
         // anyway (its force acts within the thickness); searching further
         // would only gather every particle of a blowing-up scene.
         let closing = (2.0 * dt * speed).min(MAX_CLOSING * self.settings.thickness);
+        // Within the step the particles' paths bend away from their
+        // velocities now by what their velocities change (gravity against
+        // a pinned body, springs, the iterates of an implicit solve): by
+        // at most the change over the whole step times the step, taken as
+        // twice the last step's (scaled to this step), counted from a
+        // common change, for each of two particles. Unknown (nothing is
+        // passed over) on the first step or after the particles changed.
+        let bending = self
+            .scratch
+            .velocity_change(bodies, velocity, dt)
+            .map(|change| 4.0 * dt * change);
         let covered = self
             .scratch
             .still_covers(bodies, position, closing, &self.settings);
         if let Some(allowance) = covered {
-            self.pairs.allowance = allowance;
+            self.pairs.allowance = bending.map_or(Real::INFINITY, |b| allowance + b);
             return;
         }
         self.pairs.clear();
-        self.pairs.allowance = closing;
+        self.pairs.allowance = bending.map_or(Real::INFINITY, |b| closing + b);
         let Contacts {
             pairs,
             scratch,

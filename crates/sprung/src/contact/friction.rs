@@ -10,11 +10,15 @@
 //! `u_t` of the two closest points, after the step, is reduced by the
 //! tangential impulse `J = min(|u_t| / W, μ f_n dt)` along `-u_t`, where `W
 //! = Σ wᵢ² / mᵢ` is the pair's inverse effective mass. So each step's
-//! friction impulse is at most `μ` times the normal impulse the step gave
-//! (Coulomb's law for impulses); below the friction cone the sliding stops
-//! exactly (static friction). Taking the force's touches rather than
-//! measuring the pairs again after the step halves the cost of measuring
-//! contacts; every integrator evaluates the forces at least once a step.
+//! friction impulse is at most `μ` times the normal force of the last
+//! evaluation times the step: Coulomb's law for the step's normal impulse
+//! where the forces are evaluated once a step (Euler, symplectic Euler),
+//! its last stage's where they are evaluated several times (RK4, the
+//! implicit solvers). Below the friction cone the sliding stops exactly
+//! (static friction). A touch that begins within a step gets its first
+//! friction in the next. Taking the force's touches rather than measuring
+//! the pairs again after the step halves the cost of measuring contacts;
+//! every integrator evaluates the forces at least once a step.
 //! The impulse is shared by the closest-point weights, opposite on the two
 //! sides (the weights sum to zero), so linear momentum is conserved. The
 //! positions move by the velocity change times `dt` too, as if the impulse

@@ -10,10 +10,10 @@
 //! of the element by the weights of the closest point, with the opposite
 //! force on the other side, so linear momentum is conserved exactly.
 //! Coulomb friction on the relative tangential velocity acts as impulses
-//! after each step, on the touches the penalty force last pushed with,
-//! each impulse at most `μ` times the step's normal impulse: it holds a
-//! body at rest below the friction angle, which a friction force that
-//! depends on the sliding speed cannot.
+//! after each step, on the touches the penalty force last pushed, each
+//! impulse at most `μ` times the normal force it pushed with times the
+//! step: it holds a body at rest below the friction angle, which a
+//! friction force that depends on the sliding speed cannot.
 //!
 //! Why penalty rather than impulses or projection: a penalty contact is a
 //! force, so it is one more entry of the world's force list. It works
@@ -41,19 +41,23 @@
 //! element asks it for the particles within reach of its box; edges and
 //! loose particles are found among themselves. The search runs in parallel
 //! over chunks of elements and puts what it found in a fixed order (by
-//! particle, then element), so the pairs are the same whatever the number
-//! of threads. The penalty force ([`BodyContacts`]) evaluates only those
-//! pairs, at every trial state the integrator asks for, measuring them in
-//! parallel and adding their forces in the pairs' order. Each pair keeps
-//! its *clearance*, how far beyond the thickness it was when found, and
-//! each step the detect stage sets the *allowance*, how much closer any
-//! two elements can have come since (twice the farthest a particle has
-//! moved since the search, counted from a common move, plus the step's
-//! closing distance): a pair whose
-//! clearance is larger cannot touch in the step, and is passed over
-//! without reading its positions. Most candidates of a cloth lying in
-//! folds are such pairs; each list of pairs is kept in buckets of
-//! clearance, nearest first, so a measure does not even read them.
+//! particle, then element, then in buckets of clearance, below), so the
+//! pairs are the same whatever the number of threads. The penalty force
+//! ([`BodyContacts`]) evaluates only those pairs, at every trial state
+//! the integrator asks for, measuring them in parallel and adding their
+//! forces in the pairs' order.
+//!
+//! Each pair keeps its *clearance*, how far beyond the thickness it was
+//! when found, and each step the detect stage sets the *allowance*, how
+//! much closer any two elements can have come since: twice the farthest
+//! a particle has moved since the search (counted from a common move),
+//! plus the step's closing distance at the velocities it starts with,
+//! plus how far the paths can bend as the velocities change (taken as
+//! twice the last step's change). A pair whose clearance is larger cannot
+//! touch in the step, and is passed over without reading its positions.
+//! Most candidates of a cloth lying in folds are such pairs; each list of
+//! pairs is kept in buckets of clearance, nearest first, so a measure
+//! does not even read them.
 //!
 //! **Sides.** A closed surface pushes along its outward normal, so a
 //! particle that got inside is pushed out. An open surface (cloth) pushes

@@ -174,24 +174,26 @@ pub(crate) struct Spare {
     point_point: Vec<PointPoint>,
 }
 
-/// The candidate pairs of a step.
+/// The candidate pairs of a step. The lists are the engine's own: each is
+/// kept in buckets of clearance that a change from outside would break.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactPairs {
     /// Particles against triangles.
-    pub point_triangle: Vec<PointTriangle>,
+    pub(crate) point_triangle: Vec<PointTriangle>,
     /// Particles against 2D segments.
-    pub point_segment: Vec<PointSegment>,
+    pub(crate) point_segment: Vec<PointSegment>,
     /// Edges against edges.
-    pub edge_edge: Vec<EdgeEdge>,
+    pub(crate) edge_edge: Vec<EdgeEdge>,
     /// Particles against particles.
-    pub point_point: Vec<PointPoint>,
+    pub(crate) point_point: Vec<PointPoint>,
     /// How much closer (m) any two elements can have come since the pairs
-    /// were found, at any state of the current step (set by the detect
-    /// stage from how far the particles have moved since, and how fast
-    /// they go): a pair whose clearance is larger cannot touch, and is not
-    /// measured. Infinite (every pair measured) until the detect stage
-    /// sets it.
-    pub allowance: Real,
+    /// were found, at the states of the current step (set by the detect
+    /// stage from how far the particles have moved since, how fast they go
+    /// and how much their velocities changed in the last step): a pair
+    /// whose clearance is larger cannot touch, and is not measured.
+    /// Infinite (every pair measured) until the detect stage sets it, and
+    /// on a step with no last step to compare.
+    pub(crate) allowance: Real,
     /// Where the buckets of clearance of each list start, by [`Kind`].
     buckets: [Buckets; 4],
 }
