@@ -646,20 +646,27 @@ impl World {
     fn guard(&self, dt: Real) -> Result<(), StepError> {
         let limits = &self.settings;
         let particles = &self.particles;
-        // First a branch-free scan the compiler vectorises: a NaN fails
-        // both comparisons, and an infinite coordinate fails them because
-        // the limits' squares are held below infinity. Only a state that
-        // fails it is searched for the first particle at fault and why.
+        // First a branch-free scan the compiler vectorises, over the
+        // coordinates as one flat array (no shuffling of three-vectors into
+        // lanes): a coordinate within `limit / 1.75` each way puts its
+        // particle within `√3 / 1.75 < 1` of the limit, and NaN and infinite
+        // coordinates fail the comparison. A span with a coordinate beyond
+        // it is measured exactly, a particle at a time; only a state that
+        // fails that is searched for the first particle at fault and why.
         let distance_squared = limits.max_distance.powi(2).min(Real::MAX);
         let speed_squared = limits.max_speed.powi(2).min(Real::MAX);
+        let distance_bound = limits.max_distance.min(Real::MAX) / 1.75;
+        let speed_bound = limits.max_speed.min(Real::MAX) / 1.75;
         let outside = parallel::max(particles.len(), |range| {
             let x = &particles.position[range.clone()];
             let v = &particles.velocity[range];
-            let within = x.iter().zip(v).fold(true, |within, (x, v)| {
-                within
-                    & (x.length_squared() <= distance_squared)
-                    & (v.length_squared() <= speed_squared)
-            });
+            let within = coordinates_within(x, distance_bound)
+                && coordinates_within(v, speed_bound)
+                || x.iter().zip(v).fold(true, |within, (x, v)| {
+                    within
+                        & (x.length_squared() <= distance_squared)
+                        & (v.length_squared() <= speed_squared)
+                });
             if within {
                 0.0
             } else {
@@ -890,6 +897,16 @@ impl World {
             &self.colliders,
             &self.contacts,
         )
+    }
+}
+
+vectorised! {
+    /// Whether every coordinate of `vectors` lies within `±bound` (NaN
+    /// lying nowhere): one flat pass over the reals, which the compiler
+    /// vectorises.
+    fn coordinates_within(vectors: &[Vec3], bound: Real) -> bool {
+        let reals: &[Real] = bytemuck::cast_slice(vectors);
+        reals.iter().fold(true, |within, c| within & (c.abs() <= bound))
     }
 }
 

@@ -311,3 +311,63 @@ fn the_guard_names_the_first_particle_out_of_bounds_and_why() {
         }
     }
 }
+
+#[test]
+fn the_guard_measures_the_distance_and_speed_not_each_coordinate() {
+    // The guard first checks each coordinate against a bound below the
+    // limit (`limit / 1.75`, so that three coordinates within it keep the
+    // length within `√3 / 1.75` of the limit), and measures the length
+    // exactly only where a coordinate is beyond that. A particle with one
+    // coordinate at 0.9 of a limit is within it (a step of 1e-9 s moves
+    // it by far less than the tenth of the limit left), and one with all
+    // three at 0.6 of it is √3 · 0.6 = 1.04 times as far: only the second
+    // stops the run.
+    let dt = 1e-9; // s
+    for (scale, stops) in [(0.9, false), (0.6, true)] {
+        for what in ["distance", "speed"] {
+            let mut world = stiff_rope(IntegratorKind::SymplecticEuler, Vec3::ZERO);
+            let limit = match what {
+                "distance" => world.settings.max_distance,
+                _ => world.settings.max_speed,
+            };
+            let value = if stops {
+                Vec3::splat(scale * limit)
+            } else {
+                Vec3::new(0.0, 0.0, scale * limit)
+            };
+            // The whole rope moved or set moving as one, so that no spring
+            // is stretched by it.
+            for i in 0..world.particles.len() {
+                match what {
+                    "distance" => world.particles.position[i] += value,
+                    _ => world.particles.velocity[i] = value,
+                }
+            }
+            let result = world.step(dt);
+            match (stops, what, result) {
+                (false, _, Ok(_)) => {}
+                (
+                    true,
+                    "distance",
+                    Err(StepError::BlowUp {
+                        reason: BlowUpReason::TooFar(d),
+                        ..
+                    }),
+                ) => {
+                    assert!(d > limit, "{d} against {limit}")
+                }
+                (
+                    true,
+                    "speed",
+                    Err(StepError::BlowUp {
+                        reason: BlowUpReason::TooFast(v),
+                        ..
+                    }),
+                ) => {
+                    assert!(v > limit, "{v} against {limit}")
+                }
+                (_, _, result) => panic!("{what} at {scale} of the limit: {result:?}"),
+            }
+        }
+    }
+}

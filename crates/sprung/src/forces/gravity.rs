@@ -3,7 +3,7 @@
 use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::measure::Energies;
 use crate::parallel;
-use crate::Vec3;
+use crate::{Real, Vec3};
 
 /// Uniform gravitational acceleration `g` (m/s²) on every particle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,9 +23,7 @@ impl Force for Gravity {
         }
         let g = self.acceleration;
         parallel::for_each_span(force, |start, force| {
-            for (f, &m) in force.iter_mut().zip(&context.mass[start..]) {
-                *f += m * g;
-            }
+            add_weight(force, &context.mass[start..], g);
         });
     }
 
@@ -36,9 +34,7 @@ impl Force for Gravity {
         }
         let g = self.acceleration;
         parallel::for_each_span(force, |start, force| {
-            for (f, &m) in force.iter_mut().zip(&context.mass[start..]) {
-                *f = m * g;
-            }
+            weigh(force, &context.mass[start..], g);
         });
         true
     }
@@ -63,4 +59,23 @@ impl Force for Gravity {
     }
 
     fn add_jacobian_diagonal(&self, _: &ForceContext, _: JacobianScale, _: &mut [Vec3]) {}
+}
+
+vectorised! {
+    /// `f_i = m_i g` over a span of particles, for masses `m_i` (kg) and
+    /// gravity `g` (m/s²): forces in N.
+    fn weigh(force: &mut [Vec3], mass: &[Real], g: Vec3) {
+        for (f, &m) in force.iter_mut().zip(mass) {
+            *f = m * g;
+        }
+    }
+}
+
+vectorised! {
+    /// `f_i += m_i g` over a span of particles, as [`weigh`].
+    fn add_weight(force: &mut [Vec3], mass: &[Real], g: Vec3) {
+        for (f, &m) in force.iter_mut().zip(mass) {
+            *f += m * g;
+        }
+    }
 }
