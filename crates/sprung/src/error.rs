@@ -26,6 +26,17 @@ pub enum BuildError {
         /// What is counted ("particles" or "springs").
         what: &'static str,
     },
+    /// A new numbering of a body's particles that does not number each
+    /// of them once ([`crate::BodyData::renumbered`]).
+    #[error("the new numbering is not one of the body's {particles} particles: entry {index} is {value}, out of range or given before")]
+    NotARenumbering {
+        /// Particles of the body.
+        particles: usize,
+        /// The first bad entry (its particle's old number).
+        index: usize,
+        /// Its new number.
+        value: usize,
+    },
     /// A mass that is zero, negative or not finite.
     #[error("`{field}`[{index}] = {value}: mass must be positive and finite (kg)")]
     BadMass {

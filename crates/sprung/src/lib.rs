@@ -48,6 +48,7 @@ pub mod forces;
 pub mod gas;
 pub mod integrate;
 pub mod measure;
+mod order;
 pub mod parallel;
 pub mod particles;
 pub mod springs;

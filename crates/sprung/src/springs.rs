@@ -106,7 +106,10 @@ impl Springs {
 pub const MIN_RUN: usize = 8;
 
 /// The order a body's springs (`[first, second]` each) are stored in: first
-/// the *runs*, then every other spring by lowest particle (then highest).
+/// the *runs*, then every other spring by lowest particle (then highest),
+/// the particles taken by `number` where the body has one (a numbering for
+/// locality, `order::locality_numbering`: the springs then come in the
+/// order the spring force reads its particles in).
 ///
 /// A run is at least [`MIN_RUN`] springs whose particles both step by one
 /// from spring to spring (`[a, b]`, `[a + 1, b + 1]`, ...): a cloth's or a
@@ -116,9 +119,13 @@ pub const MIN_RUN: usize = 8;
 /// vectorised (`forces/spring/batch.rs`); the springs after the runs share
 /// particles with their neighbours in the list, which the force sums
 /// before adding them.
-pub fn storage_order(ends: &[[u32; 2]]) -> Vec<usize> {
+pub fn storage_order(ends: &[[u32; 2]], number: Option<&[u32]>) -> Vec<usize> {
     let offset = |[a, b]: [u32; 2]| i64::from(b) - i64::from(a);
-    let lowest = |[a, b]: [u32; 2]| (a.min(b), a.max(b));
+    let renumber = |p: u32| number.map_or(p, |number| number[p as usize]);
+    let lowest = |[a, b]: [u32; 2]| {
+        let (a, b) = (renumber(a), renumber(b));
+        (a.min(b), a.max(b))
+    };
     // By offset, then first particle: a run's springs come one after the
     // other.
     let mut by_offset: Vec<usize> = (0..ends.len()).collect();
@@ -164,7 +171,7 @@ mod tests {
         ends.extend((0..8).map(|a| [a, a + 2]));
         ends.extend((0..9).rev().map(|a| [a, a + 1]));
         ends.extend([[0, 5], [1, 6], [7, 2], [3, 8]]);
-        let order = storage_order(&ends);
+        let order = storage_order(&ends, None);
         let stored: Vec<[u32; 2]> = order.iter().map(|&s| ends[s]).collect();
         let mut expected: Vec<[u32; 2]> = (0..9).map(|a| [a, a + 1]).collect();
         expected.extend((0..8).map(|a| [a, a + 2]));

@@ -32,6 +32,7 @@ use crate::forces::{
 };
 use crate::integrate::{Derivative, Integrator, IntegratorKind, SolverSettings, State, StepReport};
 use crate::measure::{self, Energies};
+use crate::order;
 use crate::parallel;
 use crate::particles::Particles;
 use crate::springs::{self, Springs};
@@ -271,14 +272,19 @@ impl World {
         let first_spring = self.springs.len();
         let index = |i: usize| (offset + i) as u32;
         // Runs of springs stepping along the particles first, then the rest
-        // by lowest particle: the orders the force reads fastest
-        // (`springs::storage_order`).
+        // by lowest particle (in the numbering the spring force works in,
+        // where the body's own has no locality): the orders the force reads
+        // fastest (`springs::storage_order`).
         let ends: Vec<[u32; 2]> = data
             .springs
             .iter()
             .map(|s| [s.first as u32, s.second as u32])
             .collect();
-        let order = springs::storage_order(&ends);
+        let mut order = springs::storage_order(&ends, None);
+        let number = order::locality_numbering(&ends, &order, data.position.len());
+        if number.is_some() {
+            order = springs::storage_order(&ends, number.as_deref());
+        }
         // Where each spring of the data went (for the muscles).
         let mut stored = vec![0; order.len()];
         for (place, &k) in order.iter().enumerate() {
@@ -310,6 +316,7 @@ impl World {
             rods: self.rods.len()..self.rods.len() + data.rods.len(),
             rigid: data.rigid,
             gravitating: data.gravitating,
+            spring_numbering: number,
         };
         for rod in &data.rods {
             self.rods

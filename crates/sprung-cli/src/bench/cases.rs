@@ -3,7 +3,7 @@
 
 use sprung::build::{self, ClothSprings, SurfaceSprings};
 use sprung::integrate::Preconditioner;
-use sprung::{Gas, IntegratorKind, Real, Vec3, World};
+use sprung::{BodyData, Gas, IntegratorKind, Real, Vec3, World};
 
 use super::contacts::{self, balls_in_a_box, folded_cloth};
 use super::stiff_cloth::{stiff_cloth, FRAME};
@@ -72,14 +72,37 @@ fn input(e: impl std::fmt::Display) -> CliError {
 /// A `size × size` cloth, 1 m square, with the builder's default springs
 /// (structural, shear, bending), 1 kg, 1000 N/m, hanging from two corners.
 pub fn cloth(size: usize, kind: IntegratorKind) -> Result<World, CliError> {
-    let cloth = build::cloth(size, size, 1.0, 1.0, ClothSprings::default())
+    let mut world = World::new(kind);
+    world.add_body("cloth", cloth_body(size)?).map_err(input)?;
+    Ok(world)
+}
+
+/// The body of [`cloth`].
+fn cloth_body(size: usize) -> Result<BodyData, CliError> {
+    Ok(build::cloth(size, size, 1.0, 1.0, ClothSprings::default())
         .map_err(|e| CliError::Input(format!("cloth {size}: {e}")))?
         .with_total_mass(1.0)
         .with_stiffness(1000.0)
         .with_damping(0.01)
-        .with_pinned(vec![(size - 1) * size, size * size - 1]);
-    let mut world = World::new(kind);
-    world.add_body("cloth", cloth).map_err(input)?;
+        .with_pinned(vec![(size - 1) * size, size * size - 1]))
+}
+
+/// The [`cloth`] of `size × size` particles under symplectic Euler, its
+/// particles numbered at random (a fixed shuffle).
+fn shuffled_cloth(size: usize) -> Result<World, CliError> {
+    let body = cloth_body(size)?;
+    let mut number: Vec<usize> = (0..size * size).collect();
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    for k in (1..number.len()).rev() {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        number.swap(k, (state % (k as u64 + 1)) as usize);
+    }
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    world
+        .add_body("cloth", body.renumbered(&number).map_err(input)?)
+        .map_err(input)?;
     Ok(world)
 }
 
@@ -129,6 +152,17 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
                 compare: false,
             });
         }
+        // A cloth as a mesh file may number it: its vertices in no order
+        // along it (the engine reads its springs in a numbering of its own).
+        let size = if quick { 100 } else { 160 };
+        cases.push(Case {
+            group: Group::Cloth,
+            name: format!("cloth {size}² numbered at random"),
+            integrator: IntegratorKind::SymplecticEuler,
+            build: Box::new(move || shuffled_cloth(size)),
+            dt: Step::HalfStable,
+            compare: false,
+        });
     }
     if wanted(Group::Integrators) {
         for kind in IntegratorKind::ALL {

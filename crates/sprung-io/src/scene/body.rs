@@ -447,7 +447,7 @@ pub(crate) fn aliases(key: &str) -> Vec<&str> {
 /// The scene key a [`BuildError`] is about, to find its line.
 pub(crate) fn key_of(error: &BuildError) -> &'static str {
     match error {
-        BuildError::NoParticles => "particles",
+        BuildError::NoParticles | BuildError::NotARenumbering { .. } => "particles",
         BuildError::LengthMismatch { field, .. }
         | BuildError::BadMass { field, .. }
         | BuildError::NotFinite { field, .. }

@@ -61,6 +61,9 @@ pub struct Schedule<const W: usize> {
     /// included, within its block, at most [`MAX_RUN`]) form a *run*: each
     /// one's particles and own index one more than the last's.
     run: Vec<u8>,
+    /// Cut by colouring single elements: the numbering of the particles
+    /// has no locality at all.
+    singles: bool,
 }
 
 /// The longest run [`Block::run`] reports.
@@ -130,6 +133,7 @@ impl<const W: usize> Default for Schedule<W> {
             phases: Vec::new(),
             reach: 0,
             run: Vec::new(),
+            singles: false,
         }
     }
 }
@@ -214,7 +218,10 @@ impl<const W: usize> Schedule<W> {
                 first_block_of[c] + piece
             })
             .collect();
-        Self::sorted(members, &slot, (0..blocks).collect(), phases)
+        Self {
+            singles: true,
+            ..Self::sorted(members, &slot, (0..blocks).collect(), phases)
+        }
     }
 
     /// Sort the elements into blocks (stably) by `key` (each element's
@@ -247,6 +254,7 @@ impl<const W: usize> Schedule<W> {
                 phases,
                 reach,
                 run: Vec::new(),
+                singles: false,
             }
             .with_runs();
         }
@@ -266,6 +274,7 @@ impl<const W: usize> Schedule<W> {
             phases,
             reach,
             run: Vec::new(),
+            singles: false,
         }
         .with_runs()
     }
@@ -294,6 +303,12 @@ impl<const W: usize> Schedule<W> {
     /// Number of elements.
     pub fn len(&self) -> usize {
         self.members.len()
+    }
+
+    /// Whether the schedule colours single elements: their particles are
+    /// numbered with no locality at all (see the type's documentation).
+    pub fn colours_single_elements(&self) -> bool {
+        self.singles
     }
 
     /// True when there are no elements.

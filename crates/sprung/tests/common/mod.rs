@@ -124,6 +124,22 @@ impl Rng {
         2.0 * (bits as Real / (1u64 << 53) as Real) - 1.0
     }
 
+    /// A whole number uniform in `0..n` (`n > 0`).
+    pub fn below(&mut self, n: usize) -> usize {
+        let unit = 0.5 * (self.symmetric() + 1.0);
+        ((unit * n as Real) as usize).min(n - 1)
+    }
+
+    /// A random numbering of `n` particles (a permutation of `0..n`), as
+    /// [`BodyData::renumbered`] takes it.
+    pub fn numbering(&mut self, n: usize) -> Vec<usize> {
+        let mut number: Vec<usize> = (0..n).collect();
+        for k in (1..n).rev() {
+            number.swap(k, self.below(k + 1));
+        }
+        number
+    }
+
     /// A vector with components uniform in [-scale, scale).
     pub fn vector(&mut self, scale: Real) -> Vec3 {
         scale * Vec3::new(self.symmetric(), self.symmetric(), self.symmetric())
