@@ -4,8 +4,9 @@
 //!
 //! Breadth-first from a particle of low degree at the edge of each
 //! connected piece, neighbours taken by increasing degree, the whole order
-//! then reversed: every spring joins two particles of neighbouring levels,
-//! so a spring's ends are at most about one level's width apart. A grid
+//! then reversed: every spring joins two particles of the same or
+//! neighbouring levels, so a spring's ends are at most about two levels'
+//! widths apart. A grid
 //! comes out numbered along its diagonals, a shuffled grid as well.
 //!
 //! [`locality_numbering`] renumbers only where the spring schedule finds no
@@ -81,8 +82,9 @@ pub fn locality_numbering(
     // Only a numbering the spring schedule finds no locality in at all: it
     // reads any other well enough in its own ways (a mesh refined by
     // subdivision steps 20 % slower a step renumbered, measured on the
-    // 10 242-vertex icosphere), and a scene of at most two chunks of
-    // particles stays in the caches in any order.
+    // 10 242-vertex icosphere), and the schedule keeps a body of at most
+    // two chunks of particles in neighbouring blocks in any order (small
+    // enough to stay in the caches).
     let schedule = Schedule::new(stored.iter().map(|&s| ends[s]), particles);
     if !schedule.colours_single_elements() {
         return None;
@@ -174,9 +176,9 @@ fn adjacency(ends: &[[u32; 2]], particles: usize) -> (Vec<usize>, Vec<u32>) {
     (start, neighbours)
 }
 
-/// Whether renumbering pays: the springs' ends are, on average, farther
-/// apart than a chunk of particles a thread takes at a time, and the new
-/// numbering brings them at least four times closer.
+/// Whether renumbering pays: the springs' ends are, on average, more than
+/// an eighth of a chunk (the particles a thread takes at a time) apart,
+/// and the new numbering brings them at least four times closer.
 pub fn pays(before: f64, after: f64) -> bool {
     before > CHUNK as f64 / 8.0 && after * 4.0 <= before
 }
@@ -257,6 +259,9 @@ mod tests {
         // The grid numbered by rows already is local: no gain worth it.
         let rows = grid(width, height, |p| p);
         assert!(!pays(mean_span(&rows, |p| p), 20.0));
+        // Far apart, but brought less than four times closer: not either.
+        assert!(!pays(1000.0, 251.0));
+        assert!(pays(1000.0, 250.0));
     }
 
     #[test]

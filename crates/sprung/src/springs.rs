@@ -106,10 +106,11 @@ impl Springs {
 pub const MIN_RUN: usize = 8;
 
 /// The order a body's springs (`[first, second]` each) are stored in: first
-/// the *runs*, then every other spring by lowest particle (then highest),
-/// the particles taken by `number` where the body has one (a numbering for
-/// locality, `order::locality_numbering`: the springs then come in the
-/// order the spring force reads its particles in).
+/// the *runs* (in the body's own numbering), then every other spring by
+/// lowest particle (then highest), the particles taken by `number` where
+/// the body has one (a numbering for locality, `order::locality_numbering`:
+/// the springs then come in the order the spring force reads its
+/// particles in).
 ///
 /// A run is at least [`MIN_RUN`] springs whose particles both step by one
 /// from spring to spring (`[a, b]`, `[a + 1, b + 1]`, ...): a cloth's or a

@@ -320,10 +320,11 @@ fn the_guard_measures_the_distance_and_speed_not_each_coordinate() {
     // exactly only where a coordinate is beyond that. A particle with one
     // coordinate at 0.9 of a limit is within it (a step of 1e-9 s moves
     // it by far less than the tenth of the limit left), and one with all
-    // three at 0.6 of it is √3 · 0.6 = 1.04 times as far: only the second
-    // stops the run.
+    // three at 0.58 of it is √3 · 0.58 = 1.005 times as far: only the
+    // second stops the run (a bound per coordinate above 0.58 of the
+    // limit, `limit / 1.7` say, would miss it).
     let dt = 1e-9; // s
-    for (scale, stops) in [(0.9, false), (0.6, true)] {
+    for (scale, stops) in [(0.9, false), (0.58, true)] {
         for what in ["distance", "speed"] {
             let mut world = stiff_rope(IntegratorKind::SymplecticEuler, Vec3::ZERO);
             let limit = match what {

@@ -25,12 +25,26 @@ fn cloth() -> BodyData {
         .with_pinned(vec![(SIDE - 1) * SIDE, SIDE * SIDE - 1])
 }
 
+/// Particles of the rope added before the cloth, so that the cloth's
+/// particles do not start at 0.
+const BEFORE: usize = 5;
+
 /// The positions (m) of `body` after `steps` steps of symplectic Euler at
 /// 1e-4 s (below the stable estimate of 1.4e-4 s for these springs and
-/// masses) on `threads` threads.
+/// masses) on `threads` threads: a small rope added before it, and a lone
+/// particle (no springs) after it.
 fn positions_after(body: BodyData, steps: usize, threads: usize) -> Vec<Vec3> {
     let mut world = World::new(IntegratorKind::SymplecticEuler);
+    world
+        .add_body("rope", common::rope(BEFORE - 1, 0.01, 100.0, 0.1))
+        .expect("valid rope");
     world.add_body("cloth", body).expect("valid body");
+    world
+        .add_body(
+            "lone",
+            BodyData::from_positions(vec![Vec3::new(2.0, 0.0, 0.0)]),
+        )
+        .expect("valid particle");
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -40,7 +54,7 @@ fn positions_after(body: BodyData, steps: usize, threads: usize) -> Vec<Vec3> {
             world.step(1e-4).expect("stable step");
         }
     });
-    world.particles.position.clone()
+    world.particles.position[BEFORE..BEFORE + SIDE * SIDE].to_vec()
 }
 
 #[test]

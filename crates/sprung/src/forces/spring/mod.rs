@@ -44,12 +44,14 @@ use crate::{Real, Vec3};
 ///
 /// Particles numbered with no locality (a mesh whose vertices come in no
 /// order along it) would make every spring read its particles from all
-/// over the state. When the springs' ends are far apart in the numbering
-/// and a reverse Cuthill–McKee numbering brings them at least four times
-/// closer, the force is computed in that numbering instead
-/// (`Renumbered`): the state gathered into it, the springs added there,
-/// the forces gathered back. Everything outside (the state, the outputs,
-/// the indices a user sees) keeps the world's numbering.
+/// over the state. Where a body is numbered so (the schedule would colour
+/// its springs one by one) and a reverse Cuthill–McKee numbering brings
+/// its springs' ends at least four times closer, the world keeps that
+/// numbering (`order.rs`) and the force is computed in it
+/// (`Renumbered`): the whole state gathered into it, the springs added
+/// there, the forces gathered back. Everything outside (the state, the
+/// outputs, the indices a user sees) keeps the world's numbering; the
+/// implicit solvers' Jacobian products do too.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SpringForce {
     /// Per spring: the unit axis `t` and the clamped transverse stiffness
@@ -90,23 +92,33 @@ impl Renumbered {
             let Some(own) = &body.spring_numbering else {
                 continue;
             };
-            let offset = body.particles.start;
+            let range = body.particles.clone();
+            if range.len() != own.len() || range.end > particles {
+                // A body's range changed by hand since it was added.
+                return None;
+            }
             let number = number.get_or_insert_with(|| (0..particles as u32).collect());
             for (k, &n) in own.iter().enumerate() {
-                number[offset + k] = (offset + n as usize) as u32;
+                number[range.start + k] = (range.start + n as usize) as u32;
             }
         }
         let number = number?;
+        // Each particle numbered once, unless bodies' ranges were made to
+        // overlap by hand: then the world's own numbering is kept.
+        let mut particle = vec![u32::MAX; particles];
+        for (p, &n) in number.iter().enumerate() {
+            let slot = particle.get_mut(n as usize)?;
+            if *slot != u32::MAX {
+                return None;
+            }
+            *slot = p as u32;
+        }
         let ends: Vec<[u32; 2]> = springs
             .first()
             .iter()
             .zip(springs.second())
             .map(|(&i, &j)| [i, j])
             .collect();
-        let mut particle = vec![0u32; particles];
-        for (p, &n) in number.iter().enumerate() {
-            particle[n as usize] = p as u32;
-        }
         let members = ends
             .iter()
             .map(|&[i, j]| [number[i as usize], number[j as usize]]);
