@@ -200,6 +200,20 @@ mod tests {
         total as f64 / ends.len() as f64
     }
 
+    /// A fixed random numbering of `n` particles (xorshift, Fisher–Yates):
+    /// `shuffled(n, seed)[p]` is particle `p`'s new number.
+    fn shuffled(n: usize, seed: u64) -> Vec<usize> {
+        let mut state = seed;
+        let mut number: Vec<usize> = (0..n).collect();
+        for k in (1..n).rev() {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            number.swap(k, (state % (k as u64 + 1)) as usize);
+        }
+        number
+    }
+
     /// The springs of a `width × height` grid (right and down neighbours),
     /// particle `(i, j)` numbered `number(j * width + i)`.
     fn grid(width: u32, height: u32, number: impl Fn(u32) -> u32) -> Vec<[u32; 2]> {
@@ -227,15 +241,8 @@ mod tests {
         // between a particle and its neighbour on the next one.
         let (width, height) = (60u32, 40u32);
         let particles = (width * height) as usize;
-        let mut shuffled: Vec<u32> = (0..particles as u32).collect();
-        let mut state = 0x9e37_79b9_u64;
-        for k in (1..particles).rev() {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            shuffled.swap(k, (state % (k as u64 + 1)) as usize);
-        }
-        let ends = grid(width, height, |p| shuffled[p as usize]);
+        let shuffled = shuffled(particles, 0x9e37_79b9);
+        let ends = grid(width, height, |p| shuffled[p as usize] as u32);
         let before = mean_span(&ends, |p| p);
         assert!(before > 600.0, "{before}");
         let order = reverse_cuthill_mckee(&ends, particles);
@@ -287,14 +294,7 @@ mod tests {
         // subdivision order is read faster than a renumbering), not.
         let side = 100;
         let cloth = build::cloth(side, side, 1.0, 1.0, ClothSprings::default()).expect("cloth");
-        let mut state = 0x2545_f491_u64;
-        let mut number: Vec<usize> = (0..side * side).collect();
-        for k in (1..number.len()).rev() {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            number.swap(k, (state % (k as u64 + 1)) as usize);
-        }
+        let number = shuffled(side * side, 0x2545_f491);
         let shuffled = cloth.renumbered(&number).expect("a numbering");
         let ball = build::icosphere(1.0, 5, SurfaceSprings::default()).expect("icosphere");
         for (body, renumbered) in [(shuffled, true), (cloth, false), (ball, false)] {
