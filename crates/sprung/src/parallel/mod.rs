@@ -28,8 +28,8 @@ use rayon::prelude::*;
 use crate::Real;
 
 pub use schedule::{
-    Block, Elements, Schedule, ScheduleCache, Writer, COLOUR_BLOCK, COLOUR_PIECE, MAX_RUN,
-    MIN_BLOCKS,
+    scatter_in_order, Block, Elements, Schedule, ScheduleCache, Writer, COLOUR_BLOCK, COLOUR_PIECE,
+    MAX_RUN, MIN_BLOCKS,
 };
 
 /// The number of elements a thread takes at a time, and the chunk of the

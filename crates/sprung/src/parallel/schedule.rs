@@ -326,7 +326,10 @@ impl<const W: usize> Schedule<W> {
     ) {
         self.for_each_block(out, |block| {
             for e in 0..block.len() {
-                let writer = Writer { block: &block, e };
+                let writer = Writer {
+                    particles: block.members[e],
+                    into: Entries::Block { block: &block, e },
+                };
                 f(block.element(e), &writer);
             }
         });
@@ -549,19 +552,63 @@ unsafe impl<T: Send> Sync for Disjoint<'_, T> {}
 /// What one element's computation may write: additions to its own
 /// particles' entries.
 pub struct Writer<'a, T, const W: usize> {
-    block: &'a Block<'a, T, W>,
-    e: usize,
+    /// The element's particles.
+    particles: [u32; W],
+    /// Where the additions go.
+    into: Entries<'a, T, W>,
+}
+
+/// The entries a [`Writer`] adds into.
+enum Entries<'a, T, const W: usize> {
+    /// Through a block of a schedule, as its element `e`.
+    Block {
+        block: &'a Block<'a, T, W>,
+        e: usize,
+    },
+    /// Straight into the entries, from the one thread that holds them.
+    Own(&'a [Cell<T>]),
 }
 
 impl<T: Copy + AddAssign, const W: usize> Writer<'_, T, W> {
     /// The element's `k`-th particle.
     pub fn particle(&self, k: usize) -> usize {
-        self.block.members[self.e][k] as usize
+        self.particles[k] as usize
     }
 
     /// Add `value` to the entry of the element's `k`-th particle.
     pub fn add(&self, k: usize, value: T) {
-        self.block.add(self.e, k, value);
+        match &self.into {
+            Entries::Block { block, e } => block.add(*e, k, value),
+            Entries::Own(entries) => {
+                let entry = &entries[self.particles[k] as usize];
+                let mut sum = entry.get();
+                sum += value;
+                entry.set(sum);
+            }
+        }
+    }
+}
+
+/// Call `f(element, writer)` for every element of `members` (each `W`
+/// particles), in their order, on the calling thread: the writer adds into
+/// `out` at the element's own particles. For lists too short to share
+/// among threads (at most [`CHUNK`] elements, which a [`Schedule`] would
+/// run on one thread as well), without making or checking a schedule.
+///
+/// # Panics
+/// If an element's particle is beyond `out`.
+pub fn scatter_in_order<T: Copy + AddAssign, const W: usize>(
+    members: &[[u32; W]],
+    out: &mut [T],
+    f: impl Fn(usize, &Writer<'_, T, W>),
+) {
+    let entries = Cell::from_mut(out).as_slice_of_cells();
+    for (e, &particles) in members.iter().enumerate() {
+        let writer = Writer {
+            particles,
+            into: Entries::Own(entries),
+        };
+        f(e, &writer);
     }
 }
 
@@ -674,6 +721,45 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn in_order_each_element_adds_into_its_own_particles_one_after_another() {
+        // Claim: `scatter_in_order` gives each element its own particles
+        // and adds into them in the elements' order. Each spring of a
+        // shuffled grid multiplies an accumulator of its particles by a
+        // fixed odd number and adds its index (a sum that depends on the
+        // order, exact in integers that wrap), and the same is computed
+        // element by element here.
+        #[derive(Clone, Copy, Default)]
+        struct Chain(u64);
+        impl AddAssign for Chain {
+            fn add_assign(&mut self, other: Chain) {
+                self.0 = self.0.wrapping_mul(0x9e37_79b9_7f4a_7c15).wrapping_add(other.0);
+            }
+        }
+        let side = 30;
+        let relabel = shuffled(side * side);
+        let springs: Vec<[u32; 2]> = grid(side)
+            .into_iter()
+            .map(|[i, j]| [relabel[i as usize], relabel[j as usize]])
+            .collect();
+        let mut expected = vec![Chain::default(); (side * side) as usize];
+        for (s, [i, j]) in springs.iter().enumerate() {
+            expected[*i as usize] += Chain(2 * s as u64 + 1);
+            expected[*j as usize] += Chain(2 * s as u64 + 2);
+        }
+        let mut out = vec![Chain::default(); expected.len()];
+        scatter_in_order(&springs, &mut out, |s, w| {
+            assert_eq!(
+                [w.particle(0), w.particle(1)],
+                springs[s].map(|p| p as usize)
+            );
+            w.add(0, Chain(2 * s as u64 + 1));
+            w.add(1, Chain(2 * s as u64 + 2));
+        });
+        let bits = |v: &[Chain]| v.iter().map(|c| c.0).collect::<Vec<_>>();
+        assert_eq!(bits(&out), bits(&expected));
     }
 
     #[test]
