@@ -624,6 +624,30 @@ impl BodyData {
     }
 }
 
+/// The particles of the bodies that `keep` says (and that have any), as
+/// runs of consecutive bodies' particles: each run a range of particles
+/// that a loop can take in one piece.
+pub(crate) fn runs_of<'a>(
+    bodies: &'a [Body],
+    keep: impl Fn(&Body) -> bool + 'a,
+) -> impl Iterator<Item = Range<usize>> + 'a {
+    let mut index = 0;
+    let kept = move |b: &Body| keep(b) && !b.particles.is_empty();
+    std::iter::from_fn(move || {
+        let first = index + bodies[index..].iter().position(&kept)?;
+        let mut run = bodies[first].particles.clone();
+        index = first + 1;
+        while index < bodies.len()
+            && kept(&bodies[index])
+            && bodies[index].particles.start == run.end
+        {
+            run.end = bodies[index].particles.end;
+            index += 1;
+        }
+        Some(run)
+    })
+}
+
 fn check_len(
     field: &'static str,
     found: usize,

@@ -19,7 +19,7 @@
 //! 5. **guard**: a non-finite or runaway state stops the run with
 //!    [`StepError::BlowUp`].
 
-use crate::body::{Body, BodyData};
+use crate::body::{self, Body, BodyData};
 use crate::collide::{self, Collider, ContactConstraint};
 use crate::constrain::{
     ConstraintSettings, Muscle, Muscles, RigidBodies, RigidBody, RodReport, Rods,
@@ -635,18 +635,25 @@ impl World {
     /// been advanced), where moving colliders have got to.
     /// Rigid bodies meet the colliders as bodies, in the constrain stage.
     fn collide(&mut self) {
+        if self.colliders.is_empty() {
+            return;
+        }
+        let (colliders, time) = (&self.colliders, self.time);
         let particles = &mut self.particles;
-        for body in self.bodies.iter().filter(|b| !b.rigid) {
-            let range = body.particles.clone();
-            for collider in &self.colliders {
-                collide::project(
-                    collider,
-                    self.time,
-                    &mut particles.position[range.clone()],
-                    &mut particles.velocity[range.clone()],
-                    &particles.inverse_mass[range.clone()],
-                );
-            }
+        // Each particle meets the colliders in their order and on its own,
+        // so the runs of bodies go to the threads in spans.
+        for run in body::runs_of(&self.bodies, |b| !b.rigid) {
+            let inverse_mass = &particles.inverse_mass[run.clone()];
+            let spans = (
+                &mut particles.position[run.clone()],
+                &mut particles.velocity[run],
+            );
+            parallel::for_each_span(spans, |start, (x, v)| {
+                let inverse_mass = &inverse_mass[start..start + x.len()];
+                for collider in colliders {
+                    collide::project(collider, time, x, v, inverse_mass);
+                }
+            });
         }
     }
 

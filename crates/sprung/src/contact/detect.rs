@@ -650,21 +650,7 @@ impl Search<'_> {
 /// The particles of colliding bodies, as runs of consecutive bodies'
 /// particles.
 fn colliding_runs(bodies: &[Body]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
-    let mut index = 0;
-    std::iter::from_fn(move || {
-        let collides = |b: &Body| b.contact.collide && !b.particles.is_empty();
-        let first = index + bodies[index..].iter().position(collides)?;
-        let mut run = bodies[first].particles.clone();
-        index = first + 1;
-        while index < bodies.len()
-            && collides(&bodies[index])
-            && bodies[index].particles.start == run.end
-        {
-            run.end = bodies[index].particles.end;
-            index += 1;
-        }
-        Some(run)
-    })
+    crate::body::runs_of(bodies, |b| b.contact.collide)
 }
 
 /// The most distance (in contact thicknesses) two particles are searched

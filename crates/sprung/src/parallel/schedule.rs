@@ -735,7 +735,10 @@ mod tests {
         struct Chain(u64);
         impl AddAssign for Chain {
             fn add_assign(&mut self, other: Chain) {
-                self.0 = self.0.wrapping_mul(0x9e37_79b9_7f4a_7c15).wrapping_add(other.0);
+                self.0 = self
+                    .0
+                    .wrapping_mul(0x9e37_79b9_7f4a_7c15)
+                    .wrapping_add(other.0);
             }
         }
         let side = 30;
