@@ -125,6 +125,20 @@ pub enum BuildError {
         /// What the allowed range is.
         reason: &'static str,
     },
+    /// A body, or a scene's bodies in all, with more particles or springs
+    /// than a scene may hold ([`crate::build::MAX_PARTICLES`],
+    /// [`crate::build::MAX_SPRINGS`]), refused before they are made.
+    #[error("`{field}`: {count} {what}, more than the {limit} a scene may hold")]
+    TooMany {
+        /// Scene key of the parameter that sets the count.
+        field: &'static str,
+        /// What is counted ("particles" or "springs").
+        what: &'static str,
+        /// How many there would be.
+        count: usize,
+        /// The most allowed.
+        limit: usize,
+    },
     /// A spring with negative stiffness or damping.
     #[error("`{field}`[{spring}] = {value}: must not be negative")]
     NegativeSpringCoefficient {

@@ -451,7 +451,8 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::LengthMismatch { field, .. }
         | BuildError::BadMass { field, .. }
         | BuildError::NotFinite { field, .. }
-        | BuildError::OutOfRange { field, .. } => field,
+        | BuildError::OutOfRange { field, .. }
+        | BuildError::TooMany { field, .. } => field,
         BuildError::SpringIndexOutOfRange { .. }
         | BuildError::SelfSpring { .. }
         | BuildError::DuplicateSpring { .. }

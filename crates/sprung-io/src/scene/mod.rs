@@ -19,6 +19,7 @@ pub use error::SceneError;
 
 use std::path::{Path, PathBuf};
 
+use sprung::build;
 use sprung::forces::{Gravitation, GRAVITATIONAL_CONSTANT};
 use sprung::integrate::{Preconditioner, SolverSettings};
 use sprung::world::MAX_SUBSTEPS;
@@ -153,6 +154,17 @@ pub fn parse_scene_with(
         let body = table.get_ref();
         let data = body::body_data(body, scene_dir, files)
             .map_err(|(key, m)| at(span.clone(), key, format!("body \"{}\": {m}", body.name)))?;
+        // Each builder keeps within the limits; the bodies together must
+        // too, checked before the world takes a copy of this one.
+        let particles = world.particles.len() + data.position.len();
+        let springs = world.springs.len() + data.springs.len();
+        if let Some((what, count, limit)) = build::over_limit(particles, springs) {
+            let message = format!(
+                "body \"{}\": the bodies up to this one hold {count} {what}, more than the {limit} a scene may hold",
+                body.name
+            );
+            return Err(at(span.clone(), "name", message));
+        }
         world.add_body(&body.name, data).map_err(|e| {
             let key = body::key_in(&e, body);
             at(span.clone(), key, format!("body \"{}\": {e}", body.name))

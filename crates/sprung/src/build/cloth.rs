@@ -1,7 +1,7 @@
 //! A cloth: an `nx × ny` grid of particles in the xy-plane with structural,
 //! shear and bending springs (docs/physics.md §2), and its triangles.
 
-use super::{check_count, check_length, check_total};
+use super::{check_count, check_length, check_springs, check_total};
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
 use crate::{Real, Vec3};
@@ -54,6 +54,7 @@ pub fn cloth(
     check_total("cloth.nx", &[nx, ny])?;
     check_length("cloth.width", width)?;
     check_length("cloth.height", height)?;
+    check_springs("cloth.nx", spring_count(nx, ny, springs))?;
     let (dx, dy) = (width / (nx - 1) as Real, height / (ny - 1) as Real);
     let id = |x: usize, y: usize| y * nx + x;
     let position = (0..ny)
@@ -91,4 +92,41 @@ pub fn cloth(
         })
         .collect();
     Ok(body)
+}
+
+/// How many springs [`cloth`] makes for `nx × ny` particles (each at least
+/// 2, at most [`super::MAX_PARTICLES`] in all).
+fn spring_count(nx: usize, ny: usize, springs: ClothSprings) -> usize {
+    let structural = (nx - 1) * ny + nx * (ny - 1);
+    let shear = 2 * (nx - 1) * (ny - 1);
+    let bending = (nx - 2) * ny + nx * (ny - 2);
+    [
+        (springs.structural, structural),
+        (springs.shear, shear),
+        (springs.bending, bending),
+    ]
+    .iter()
+    .filter(|(on, _)| *on)
+    .map(|(_, count)| count)
+    .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_spring_count_is_that_of_the_cloth_built() {
+        for (nx, ny) in [(2, 2), (3, 2), (7, 5)] {
+            for bits in 0..8 {
+                let springs = ClothSprings {
+                    structural: bits & 1 != 0,
+                    shear: bits & 2 != 0,
+                    bending: bits & 4 != 0,
+                };
+                let body = cloth(nx, ny, 1.0, 1.0, springs).expect("a small cloth");
+                assert_eq!(spring_count(nx, ny, springs), body.springs.len());
+            }
+        }
+    }
 }

@@ -6,6 +6,10 @@
 use crate::error::BuildError;
 use crate::{Real, Vec3};
 
+/// Most tests of a lattice point against a face or a surface vertex a fill
+/// may take (a few seconds).
+const MAX_FILL_WORK: Real = 1e9;
+
 /// Interior lattice points of the closed surface (`position`, `faces`) at
 /// `spacing` (m), and the springs to add: between neighbouring lattice
 /// points (26-neighbourhood) and from every surface vertex to its nearest
@@ -28,6 +32,25 @@ pub(crate) fn lattice_fill(
             field: "lattice_spacing",
             value: spacing,
             reason: "the internal lattice would have more than 10 000 000 particles",
+        });
+    }
+    // Each cell is tested against every face, and each vertex measured to
+    // every lattice particle: refused before that takes more than some
+    // seconds, or makes more springs than a scene may hold (13 per cell).
+    let work = cells * (faces.len() + position.len()) as Real;
+    if work > MAX_FILL_WORK {
+        return Err(BuildError::OutOfRange {
+            field: "lattice_spacing",
+            value: spacing,
+            reason: "filling the inside would take more than 1e9 tests of a lattice point against a face or vertex (cells × (faces + vertices)): take a larger spacing or a coarser mesh",
+        });
+    }
+    if 13.0 * cells > super::MAX_SPRINGS as Real {
+        return Err(BuildError::OutOfRange {
+            field: "lattice_spacing",
+            value: spacing,
+            reason:
+                "the internal lattice's box would hold more than 20 000 000 springs (13 per cell)",
         });
     }
     let [nx, ny, nz] = [counts.x as usize, counts.y as usize, counts.z as usize];
@@ -123,4 +146,33 @@ fn inside(p: Vec3, position: &[Vec3], faces: &[[usize; 3]]) -> bool {
         })
         .count();
     crossings % 2 == 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::build::{icosphere, SurfaceSprings};
+
+    #[test]
+    fn a_fill_that_would_take_too_long_is_refused_before_it_starts() {
+        // A unit icosphere of 5120 faces and 2562 vertices: every cell of
+        // its 2 m box is tested against all 7682. Spacing 0.1 m: 20³ cells,
+        // 6e7 tests, filled; 0.034 m: 58³ ≈ 2e5 cells (well within the
+        // particle limit), 1.5e9 tests, refused at once.
+        let sphere = icosphere(1.0, 4, SurfaceSprings::default()).expect("icosphere");
+        let (position, faces) = (&sphere.position, &sphere.faces);
+        let (points, _) = lattice_fill(position, faces, 0.1).expect("a coarse fill");
+        assert!(!points.is_empty());
+        let error = lattice_fill(position, faces, 0.034).expect_err("too much work");
+        assert!(
+            matches!(
+                error,
+                BuildError::OutOfRange {
+                    field: "lattice_spacing",
+                    ..
+                }
+            ),
+            "{error}"
+        );
+    }
 }

@@ -2,7 +2,9 @@
 //! neighbours (docs/physics.md §2). A 6-neighbour lattice has no resistance to
 //! shear; the face and body diagonals make it hold its shape.
 
-use super::{check_count, check_length, check_total};
+#[cfg(test)]
+use super::MAX_SPRINGS;
+use super::{check_count, check_length, check_springs, check_total};
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
 use crate::{Real, Vec3};
@@ -22,19 +24,17 @@ pub fn lattice(nx: usize, ny: usize, nz: usize, spacing: Real) -> Result<BodyDat
     }
     check_total("lattice.nx", &[nx, ny, nz])?;
     check_length("lattice.spacing", spacing)?;
+    let springs = spring_count(nx, ny, nz);
+    check_springs("lattice.nx", springs)?;
+    let offsets = forward_offsets();
     let id = |x: usize, y: usize, z: usize| (z * ny + y) * nx + x;
     let cells =
         || (0..nz).flat_map(move |z| (0..ny).flat_map(move |y| (0..nx).map(move |x| (x, y, z))));
     let position = cells()
         .map(|(x, y, z)| spacing * Vec3::new(x as Real, y as Real, z as Real))
         .collect();
-    // The 13 neighbour offsets that are lexicographically positive: each
-    // pair of neighbours is visited from exactly one side.
-    let offsets: Vec<[isize; 3]> = (-1..=1)
-        .flat_map(|dz| (-1..=1).flat_map(move |dy| (-1..=1).map(move |dx| [dx, dy, dz])))
-        .filter(|&[dx, dy, dz]| (dz, dy, dx) > (0, 0, 0))
-        .collect();
     let mut body = BodyData::from_positions(position);
+    body.springs.reserve(springs);
     for (x, y, z) in cells() {
         for &[dx, dy, dz] in &offsets {
             let (u, v, w) = (x as isize + dx, y as isize + dy, z as isize + dz);
@@ -50,4 +50,50 @@ pub fn lattice(nx: usize, ny: usize, nz: usize, spacing: Real) -> Result<BodyDat
         }
     }
     Ok(body)
+}
+
+/// The 13 neighbour offsets that are lexicographically positive: each pair
+/// of neighbours is visited from exactly one side.
+fn forward_offsets() -> Vec<[isize; 3]> {
+    (-1..=1)
+        .flat_map(|dz| (-1..=1).flat_map(move |dy| (-1..=1).map(move |dx| [dx, dy, dz])))
+        .filter(|&[dx, dy, dz]| (dz, dy, dx) > (0, 0, 0))
+        .collect()
+}
+
+/// How many springs [`lattice`] makes for `nx × ny × nz` particles (each
+/// at least 2, at most [`super::MAX_PARTICLES`] in all): each offset joins
+/// the particles whose neighbour along it is inside.
+fn spring_count(nx: usize, ny: usize, nz: usize) -> usize {
+    forward_offsets()
+        .iter()
+        .map(|d| {
+            (nx - d[0].unsigned_abs()) * (ny - d[1].unsigned_abs()) * (nz - d[2].unsigned_abs())
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_spring_count_is_that_of_the_lattice_built() {
+        for [nx, ny, nz] in [[2, 2, 2], [3, 2, 4], [5, 4, 3]] {
+            let body = lattice(nx, ny, nz, 0.1).expect("a small lattice");
+            assert_eq!(spring_count(nx, ny, nz), body.springs.len());
+        }
+    }
+
+    #[test]
+    fn a_lattice_of_too_many_springs_is_refused_before_it_is_made() {
+        // 200 × 100 × 100 = 2 000 000 particles (within the particle
+        // limit) and about 13 springs each: over the 20 000 000 springs.
+        let error = lattice(200, 100, 100, 0.01).expect_err("too many springs");
+        assert!(
+            matches!(error, BuildError::TooMany { field: "lattice.nx", what: "springs", count, .. }
+                if count == spring_count(200, 100, 100) && count > MAX_SPRINGS),
+            "{error}"
+        );
+    }
 }

@@ -28,6 +28,35 @@ use crate::Real;
 /// Most particles a builder makes (ten million: about 1 GB of state).
 pub const MAX_PARTICLES: usize = 10_000_000;
 
+/// Most springs a builder makes, and a scene holds in all (twenty million:
+/// with as many particles as allowed, about 3 GB while the scene is built).
+pub const MAX_SPRINGS: usize = 20_000_000;
+
+/// Refuse `count` springs, set by the parameter `field`, above
+/// [`MAX_SPRINGS`].
+fn check_springs(field: &'static str, count: usize) -> Result<(), BuildError> {
+    if count > MAX_SPRINGS {
+        return Err(BuildError::TooMany {
+            field,
+            what: "springs",
+            count,
+            limit: MAX_SPRINGS,
+        });
+    }
+    Ok(())
+}
+
+/// The first of the limits that `particles` and `springs` (a scene's
+/// bodies together) exceed, as `(what, count, limit)`; `None` within both.
+pub fn over_limit(particles: usize, springs: usize) -> Option<(&'static str, usize, usize)> {
+    [
+        ("particles", particles, MAX_PARTICLES),
+        ("springs", springs, MAX_SPRINGS),
+    ]
+    .into_iter()
+    .find(|&(_, count, limit)| count > limit)
+}
+
 /// The product of `counts` (particles along each axis), refused above
 /// [`MAX_PARTICLES`] or if it overflows.
 fn check_total(field: &'static str, counts: &[usize]) -> Result<usize, BuildError> {
@@ -71,4 +100,22 @@ fn check_length(field: &'static str, value: Real) -> Result<(), BuildError> {
         });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_scene_over_either_limit_is_named_by_the_first_it_exceeds() {
+        assert_eq!(over_limit(MAX_PARTICLES, MAX_SPRINGS), None);
+        assert_eq!(
+            over_limit(MAX_PARTICLES + 1, MAX_SPRINGS),
+            Some(("particles", MAX_PARTICLES + 1, MAX_PARTICLES))
+        );
+        assert_eq!(
+            over_limit(10, MAX_SPRINGS + 1),
+            Some(("springs", MAX_SPRINGS + 1, MAX_SPRINGS))
+        );
+    }
 }
