@@ -436,17 +436,34 @@ fn solver_keys() {
     assert_error(
         &with("implicit_euler", "max_iterations = 0"),
         5,
-        &["max_iterations", "at least 1"],
+        &["max_iterations", "from 1 to 100 000"],
     );
     assert_error(
         &with("implicit_euler", "newton_iterations = 0"),
         5,
-        &["newton_iterations", "at least 1"],
+        &["newton_iterations", "from 1 to 100 Newton"],
     );
     assert_error(
         &with("projective", "iterations = 0"),
         5,
-        &["iterations", "at least 1"],
+        &["iterations", "from 1 to 10 000"],
+    );
+    // Counts that would hold one step for hours (each Newton iteration a
+    // full solve), refused at the load: one above each limit.
+    assert_error(
+        &with("implicit_euler", "max_iterations = 100001"),
+        5,
+        &["`max_iterations` = 100001", "from 1 to 100 000"],
+    );
+    assert_error(
+        &with("implicit_euler", "newton_iterations = 4000000000"),
+        5,
+        &["`newton_iterations` = 4000000000", "from 1 to 100 Newton"],
+    );
+    assert_error(
+        &with("projective", "iterations = 10001"),
+        5,
+        &["`iterations` = 10001", "from 1 to 10 000"],
     );
     assert_error(
         &with("implicit_euler", "max_iterations = -3"),
@@ -673,8 +690,8 @@ fn bad_gravitation() {
     );
 }
 
-/// `constraint_tolerance` must be positive, `constraint_iterations` at
-/// least 1, on the line of the key (line 4).
+/// `constraint_tolerance` must be positive, `constraint_iterations` from 1
+/// to 100 000, on the line of the key (line 4).
 #[test]
 fn constraint_settings() {
     let with = |key: &str| variant("steps = 10\n", &format!("steps = 10\n{key}\n"));
@@ -691,7 +708,12 @@ fn constraint_settings() {
     assert_error(
         &with("constraint_iterations = 0"),
         4,
-        &["`constraint_iterations` = 0", "at least 1"],
+        &["`constraint_iterations` = 0", "from 1 to 100 000"],
+    );
+    assert_error(
+        &with("constraint_iterations = 100001"),
+        4,
+        &["`constraint_iterations` = 100001", "from 1 to 100 000"],
     );
     assert_error(
         &with("constraint_iterations = -5"),

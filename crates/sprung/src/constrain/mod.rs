@@ -24,6 +24,11 @@ pub use rods::{RodReport, Rods};
 use crate::error::BuildError;
 use crate::Real;
 
+/// Most passes over the rods a step may take: a hundred times the default,
+/// enough for rods that can hold; it bounds the time of a step whose rods
+/// cannot.
+pub const MAX_CONSTRAINT_ITERATIONS: u32 = 100_000;
+
 /// Tolerances of the constrain stage (`[sim]` keys).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConstraintSettings {
@@ -53,11 +58,11 @@ impl ConstraintSettings {
                 reason: "must be a positive relative length error",
             });
         }
-        if self.iterations == 0 {
+        if !(1..=MAX_CONSTRAINT_ITERATIONS).contains(&self.iterations) {
             return Err(BuildError::OutOfRange {
                 field: "constraint_iterations",
-                value: 0.0,
-                reason: "must be at least 1",
+                value: Real::from(self.iterations),
+                reason: "must be from 1 to 100 000 passes a step (a scene whose rods need more cannot hold them: their lengths disagree, or their masses are too unequal)",
             });
         }
         Ok(())

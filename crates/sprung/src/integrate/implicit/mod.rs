@@ -50,6 +50,16 @@ impl Preconditioner {
     }
 }
 
+/// Most conjugate-gradient iterations a solve may be allowed: a solve
+/// that has not converged in that many will not (the default is 1000).
+pub const MAX_CG_ITERATIONS: u32 = 100_000;
+/// Most Newton iterations a step of implicit Euler may take: each is a
+/// full linear solve, and a few reach the backward-Euler solution.
+pub const MAX_NEWTON_ITERATIONS: u32 = 100;
+/// Most local/global iterations a step of the projective solver may take
+/// (the default is 10).
+pub const MAX_PROJECTIVE_ITERATIONS: u32 = 10_000;
+
 /// The tolerances and iteration limits of the implicit integrators (the
 /// `[sim]` keys `solver_tolerance`, `max_iterations`, `newton_iterations`,
 /// `iterations` and `preconditioner`).
@@ -106,16 +116,31 @@ impl SolverSettings {
                 reason: "the relative residual to reach must be positive and below 1",
             });
         }
-        for (field, value) in [
-            ("max_iterations", self.max_iterations),
-            ("newton_iterations", self.newton_iterations),
-            ("iterations", self.iterations),
+        for (field, value, most, reason) in [
+            (
+                "max_iterations",
+                self.max_iterations,
+                MAX_CG_ITERATIONS,
+                "must be from 1 to 100 000 conjugate-gradient iterations a solve",
+            ),
+            (
+                "newton_iterations",
+                self.newton_iterations,
+                MAX_NEWTON_ITERATIONS,
+                "must be from 1 to 100 Newton iterations a step",
+            ),
+            (
+                "iterations",
+                self.iterations,
+                MAX_PROJECTIVE_ITERATIONS,
+                "must be from 1 to 10 000 local/global iterations a step",
+            ),
         ] {
-            if value == 0 {
+            if !(1..=most).contains(&value) {
                 return Err(BuildError::OutOfRange {
                     field,
-                    value: 0.0,
-                    reason: "must be at least 1",
+                    value: Real::from(value),
+                    reason,
                 });
             }
         }
