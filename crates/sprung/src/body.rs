@@ -558,6 +558,74 @@ impl BodyData {
                 return Err(BuildError::PinnedRod { rod });
             }
         }
+        self.validate_rod_lengths()
+    }
+
+    /// Refuse rods whose lengths cannot all hold at once, where that shows
+    /// in two or three of them: two on the same two particles at different
+    /// lengths, or three on a triangle of particles, one longer than the
+    /// other two together (the constrain stage would pull forever and pump
+    /// energy in). Longer loops of rods are not checked. The triangles are
+    /// listed from each rod's end with fewer rods, so a particle with many
+    /// rods costs no more than the rods it has.
+    fn validate_rod_lengths(&self) -> Result<(), BuildError> {
+        // Rods agree to a billionth of their length (the tolerance the
+        // constrain stage converges to by default).
+        const SLACK: Real = 1e-9;
+        let mut rod_of: HashMap<(usize, usize), usize> = HashMap::with_capacity(self.rods.len());
+        let mut ends: HashMap<usize, Vec<usize>> = HashMap::new();
+        for (rod, r) in self.rods.iter().enumerate() {
+            let key = (r.first.min(r.second), r.first.max(r.second));
+            if let Some(&other) = rod_of.get(&key) {
+                let (length, other_length) =
+                    (self.rod_length(r), self.rod_length(&self.rods[other]));
+                if (length - other_length).abs() > SLACK * length.max(other_length) {
+                    return Err(BuildError::ConflictingRods {
+                        rod,
+                        length,
+                        other,
+                        other_length,
+                    });
+                }
+                continue;
+            }
+            rod_of.insert(key, rod);
+            ends.entry(key.0).or_default().push(key.1);
+            ends.entry(key.1).or_default().push(key.0);
+        }
+        let rod_between = |a: usize, b: usize| rod_of.get(&(a.min(b), a.max(b))).copied();
+        for (rod, r) in self.rods.iter().enumerate() {
+            let (a, b) = (r.first, r.second);
+            if rod_between(a, b) != Some(rod) {
+                continue;
+            }
+            let (near, far) = if ends[&a].len() <= ends[&b].len() {
+                (a, b)
+            } else {
+                (b, a)
+            };
+            // Each triangle once: from its rod opposite its highest particle.
+            for &third in ends[&near].iter().filter(|&&c| c > a.max(b)) {
+                let Some(side) = rod_between(far, third) else {
+                    continue;
+                };
+                let side_near = rod_between(near, third).expect("listed among near's ends");
+                let mut triangle =
+                    [rod, side, side_near].map(|s| (self.rod_length(&self.rods[s]), s));
+                triangle.sort_by(|x, y| y.0.total_cmp(&x.0));
+                let [(length, longest), (l1, s1), (l2, s2)] = triangle;
+                if length > (l1 + l2) * (1.0 + SLACK) {
+                    let mut sides = [s1, s2];
+                    sides.sort_unstable();
+                    return Err(BuildError::RodTriangle {
+                        rod: longest,
+                        length,
+                        sides,
+                        together: l1 + l2,
+                    });
+                }
+            }
+        }
         Ok(())
     }
 

@@ -79,6 +79,31 @@ pub enum BuildError {
         /// Its length (m).
         length: Real,
     },
+    /// Two rods on the same two particles at different lengths.
+    #[error("`rods`[{rod}] ({length} m) and `rods`[{other}] ({other_length} m) join the same two particles at different lengths: both cannot hold")]
+    ConflictingRods {
+        /// The later rod's index.
+        rod: usize,
+        /// Its length (m).
+        length: Real,
+        /// The earlier rod's index.
+        other: usize,
+        /// Its length (m).
+        other_length: Real,
+    },
+    /// Three rods on a triangle of particles, one longer than the other
+    /// two together: the three lengths cannot hold at once.
+    #[error("`rods`[{rod}] ({length} m) is longer than `rods`[{}] and `rods`[{}] together ({together} m), which join its ends through a third particle: the three lengths cannot hold at once", sides[0], sides[1])]
+    RodTriangle {
+        /// The longest rod's index.
+        rod: usize,
+        /// Its length (m).
+        length: Real,
+        /// The other two rods' indices.
+        sides: [usize; 2],
+        /// Their lengths added (m).
+        together: Real,
+    },
     /// A rod between two pinned particles: it can hold nothing.
     #[error("`rods`[{rod}] joins two pinned particles: a rod needs a free end")]
     PinnedRod {

@@ -4,7 +4,7 @@
 
 mod common;
 
-use sprung::{BodyData, IntegratorKind, Real, RodData, Vec3, World};
+use sprung::{BodyData, BuildError, IntegratorKind, Real, RodData, Vec3, World};
 
 const G: Real = 9.81;
 const LENGTH: Real = 1.0;
@@ -204,4 +204,70 @@ fn rods_left_off_their_lengths_are_counted_not_hidden() {
     let (step, error) = stats.first_unconverged.unwrap();
     assert!(step >= 1 && error > world.settings.constraints.tolerance);
     assert!(world.last_rod_report().sweeps == 1);
+}
+
+/// A body of three particles at the corners of a unit right triangle with
+/// rods of the given `(first, second, length)`.
+fn triangle_of_rods(rods: &[(usize, usize, Real)]) -> BodyData {
+    let corners = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
+    let mut body = BodyData::from_positions(corners);
+    body.rods = rods
+        .iter()
+        .map(|&(first, second, length)| RodData {
+            first,
+            second,
+            length: Some(length),
+        })
+        .collect();
+    body
+}
+
+#[test]
+fn rod_lengths_that_cannot_all_hold_are_refused() {
+    let add = |rods: &[(usize, usize, Real)]| {
+        World::new(IntegratorKind::SymplecticEuler).add_body("rods", triangle_of_rods(rods))
+    };
+    // Claim: three rods on a triangle hold together exactly when no one is
+    // longer than the other two together (the triangle inequality); the
+    // helper's 1, 1, 5 m pumped energy in until the run was stopped.
+    let error = add(&[(0, 1, 1.0), (1, 2, 1.0), (0, 2, 5.0)]).expect_err("5 > 1 + 1");
+    assert!(
+        matches!(error, BuildError::RodTriangle { rod: 2, sides: [0, 1], length, together }
+            if length == 5.0 && together == 2.0),
+        "{error}"
+    );
+    // The longest found whichever order the rods come in.
+    let error = add(&[(2, 0, 5.0), (2, 1, 1.0), (1, 0, 1.0)]).expect_err("5 > 1 + 1");
+    assert!(
+        matches!(
+            error,
+            BuildError::RodTriangle {
+                rod: 0,
+                sides: [1, 2],
+                ..
+            }
+        ),
+        "{error}"
+    );
+    // A flat triangle (2 = 1 + 1: the three particles in a line) and one
+    // just within (1.99) can hold.
+    assert!(add(&[(0, 1, 1.0), (1, 2, 1.0), (0, 2, 2.0)]).is_ok());
+    assert!(add(&[(0, 1, 1.0), (1, 2, 1.0), (0, 2, 1.99)]).is_ok());
+    // One rod just over (2.001 m) cannot.
+    assert!(add(&[(0, 1, 1.0), (1, 2, 1.0), (0, 2, 2.001)]).is_err());
+    // Two rods on one pair: the same length is one constraint twice; two
+    // lengths are a contradiction.
+    assert!(add(&[(0, 1, 1.0), (1, 0, 1.0)]).is_ok());
+    let error = add(&[(0, 1, 1.0), (1, 0, 1.5)]).expect_err("1 m and 1.5 m");
+    assert!(
+        matches!(
+            error,
+            BuildError::ConflictingRods {
+                rod: 1,
+                other: 0,
+                ..
+            }
+        ),
+        "{error}"
+    );
 }

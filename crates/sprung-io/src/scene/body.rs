@@ -466,6 +466,8 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::DuplicateName(_) | BuildError::BadName(_) => "name",
         BuildError::RodIndexOutOfRange { .. }
         | BuildError::BadRodLength { .. }
+        | BuildError::ConflictingRods { .. }
+        | BuildError::RodTriangle { .. }
         | BuildError::PinnedRod { .. } => "rods",
         BuildError::MuscleSpringOutOfRange { .. } | BuildError::BadMuscle { .. } => "muscles",
         BuildError::RigidTooSmall | BuildError::RigidPinned => "rigid",
@@ -489,6 +491,11 @@ pub(crate) fn key_in(error: &BuildError, table: &BodyTable) -> &'static str {
             } else {
                 "rods"
             }
+        }
+        BuildError::ConflictingRods { .. } | BuildError::RodTriangle { .. }
+            if table.rod_lengths.is_some() =>
+        {
+            "rod_lengths"
         }
         _ => key_of(error),
     }
