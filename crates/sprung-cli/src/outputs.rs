@@ -62,6 +62,19 @@ impl<'a> Outputs<'a> {
             }
         }
         let frames_dir = out.join("frames");
+        // The series file lists every frame from the first: a resumed run
+        // adds to the frames of the run it goes on with, in their format.
+        if let (Some(r), Some(OutputFormat::Frames(frame_format))) = (resumed, format) {
+            let last = export::frame_path(&frames_dir, r.rows.saturating_sub(1), frame_format);
+            if r.rows > 0 && !last.is_file() {
+                return Err(CliError::Input(format!(
+                    "--resume --format {}: the run in {} has no {}, so its frames are in another format or none (resume with the --format it was started with, or with none)",
+                    frame_format.extension(),
+                    out.display(),
+                    last.display()
+                )));
+            }
+        }
         let first_frame = resumed.map_or(0, |r| r.rows);
         let frame_files = matches!(format, Some(OutputFormat::Frames(_)));
         prepare_output(

@@ -331,6 +331,29 @@ fn bad_states_are_refused() {
         .concat(),
         "recording every 10 steps, this one records every 20",
     );
+    // Frames the saved run did not write: its series file would list
+    // frames that are not there (the run wrote none; one with vtu frames
+    // resumed as vtk is the same case).
+    refused(
+        &[
+            &base[..2],
+            &[
+                "--steps",
+                "80",
+                "--every",
+                "10",
+                "--out",
+                "out",
+                "--resume",
+                "state.bin",
+                "--format",
+                "vtk",
+            ],
+        ]
+        .concat(),
+        "has no",
+    );
+    assert!(!d.join("out/frames").exists(), "no frames folder made");
     // Another integrator's history is not used: it starts afresh (allowed).
     // A state at the end of the run has nothing left to do.
     refused(
