@@ -565,7 +565,15 @@ fn contact_and_substep_keys() {
         5,
         &["error_tolerance", "positive"],
     );
+    // Tighter than the rounding of the error estimate lets rk45 meet:
+    // refused at the load rather than failing at the first step.
+    assert_error(
+        &tolerance("rk45", "1e-300"),
+        5,
+        &["error_tolerance", "at least 1e-12"],
+    );
     assert!(parse_scene(&tolerance("rk45", "1e-8"), Path::new("good.toml")).is_ok());
+    assert!(parse_scene(&tolerance("rk45", "1e-12"), Path::new("good.toml")).is_ok());
 }
 
 /// Rods: indices out of range, zero length (a particle to itself, or a
@@ -688,6 +696,32 @@ fn bad_gravitation() {
         10,
         &["`gravitating` needs a `[gravitation]` table"],
     );
+}
+
+/// The world's limits must be positive and at most 1e100: beyond, the
+/// energies within them overflow the diagnostics' sums, and the error
+/// belongs on the limit's line (4), not on a body's masses.
+#[test]
+fn world_limits() {
+    let with = |key: &str| variant("steps = 10\n", &format!("steps = 10\n{key}\n"));
+    assert_error(
+        &with("max_distance = 1e308"),
+        4,
+        &["`max_distance` = 1e308", "at most 1e100 (m)"],
+    );
+    assert_error(
+        &with("max_speed = 1e101"),
+        4,
+        &["`max_speed` = 1e101", "at most 1e100 (m/s)"],
+    );
+    assert_error(
+        &with("max_speed = 0.0"),
+        4,
+        &["`max_speed` = 0", "positive"],
+    );
+    let scene = parse_scene(&with("max_distance = 1e100"), Path::new("good.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.world.settings.max_distance, 1e100);
 }
 
 /// `constraint_tolerance` must be positive, `constraint_iterations` from 1

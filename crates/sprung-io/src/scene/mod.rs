@@ -368,11 +368,22 @@ fn apply_settings(world: &mut World, sim: &SimTable) -> Result<(), KeyError> {
             }
         };
     }
+    // Limits beyond 1e100 would let the energies within them overflow the
+    // diagnostics' sums; refused here rather than blamed on a body's
+    // masses or springs when it is added.
+    let limit = |key: &'static str, value: Real, unit: &str| {
+        positive(key, value, &format!("must be positive ({unit})"))
+            .and_then(|v| {
+                (v <= MAX_LIMIT)
+                    .then_some(v)
+                    .ok_or((key, format!("`{key}` = {v:e}: must be at most 1e100 ({unit}), so that the energies within it can be summed")))
+            })
+    };
     if let Some(d) = sim.max_distance {
-        settings.max_distance = positive("max_distance", d, "must be positive (m)")?;
+        settings.max_distance = limit("max_distance", d, "m")?;
     }
     if let Some(v) = sim.max_speed {
-        settings.max_speed = positive("max_speed", v, "must be positive (m/s)")?;
+        settings.max_speed = limit("max_speed", v, "m/s")?;
     }
     if let Some(tolerance) = sim.constraint_tolerance {
         settings.constraints.tolerance = tolerance;
@@ -582,6 +593,9 @@ fn camera(table: &tables::CameraTable) -> Result<SceneCamera, KeyError> {
 }
 
 /// `value` if it is positive and finite, else an error for `key`.
+/// The largest `max_distance` (m) or `max_speed` (m/s) a scene may set.
+const MAX_LIMIT: Real = 1e100;
+
 pub(crate) fn positive(key: &'static str, value: Real, reason: &str) -> Result<Real, KeyError> {
     if value.is_finite() && value > 0.0 {
         Ok(value)

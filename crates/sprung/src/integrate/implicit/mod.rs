@@ -50,6 +50,9 @@ impl Preconditioner {
     }
 }
 
+/// The tightest `error_tolerance` rk45 may be given (relative above 1 m or
+/// 1 m/s): a thousand times the rounding of its error estimate.
+pub const MIN_ERROR_TOLERANCE: Real = 1e-12;
 /// Most conjugate-gradient iterations a solve may be allowed: a solve
 /// that has not converged in that many will not (the default is 1000).
 pub const MAX_CG_ITERATIONS: u32 = 100_000;
@@ -102,11 +105,11 @@ impl SolverSettings {
     /// Check the settings: a positive, finite tolerance below 1 and at least
     /// one iteration of each kind. Errors name the scene key.
     pub fn validate(&self) -> Result<(), BuildError> {
-        if !(self.error_tolerance.is_finite() && self.error_tolerance > 0.0) {
+        if !(self.error_tolerance.is_finite() && self.error_tolerance >= MIN_ERROR_TOLERANCE) {
             return Err(BuildError::OutOfRange {
                 field: "error_tolerance",
                 value: self.error_tolerance,
-                reason: "the local error to keep within must be positive and finite",
+                reason: "the local error to keep within must be finite and at least 1e-12: positive, and above what the rounding of a state near 1 m leaves in rk45's error estimate (about 1e-15), which a tighter tolerance could never meet",
             });
         }
         if !(self.tolerance.is_finite() && self.tolerance > 0.0 && self.tolerance < 1.0) {
