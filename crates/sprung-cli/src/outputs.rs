@@ -61,6 +61,14 @@ impl<'a> Outputs<'a> {
                 )));
             }
         }
+        if let Some(state) = &options.save_state {
+            check_state_path(state, out)?;
+        }
+        let csv = out.join("diagnostics.csv");
+        let partial = out.join("diagnostics.csv.partial");
+        if resumed.is_some() && !csv.is_file() && !partial.is_file() {
+            return Err(no_diagnostics(out));
+        }
         let frames_dir = out.join("frames");
         // The series file lists every frame from the first: a resumed run
         // adds to the frames of the run it goes on with, in their format.
@@ -82,17 +90,11 @@ impl<'a> Outputs<'a> {
             frame_files.then_some(frames_dir.as_path()),
             first_frame,
         )?;
-        let csv = out.join("diagnostics.csv");
         let diagnostics = match resumed {
             None => Diagnostics::create(&csv, world, &options.probe).map_err(|e| io(out, e))?,
             Some(r) => Diagnostics::resume(&csv, world, &options.probe, r.rows)
                 .map_err(|e| CliError::Input(e.to_string()))?
-                .ok_or_else(|| {
-                    CliError::Input(format!(
-                        "--resume goes on with the run in {}, but there is no diagnostics.csv there (give the --out of the run that saved the state)",
-                        out.display()
-                    ))
-                })?,
+                .ok_or_else(|| no_diagnostics(out))?,
         };
         Ok(Outputs {
             out: out.to_path_buf(),
@@ -216,6 +218,49 @@ fn io(path: &Path, e: std::io::Error) -> CliError {
 /// Create the output folder and, for frames, `frames/` without frames
 /// numbered from `first_frame` on (earlier frames of this run's format
 /// would mix into the new sequence; a resumed run keeps those before).
+/// The error of a resumed run whose `out` holds no diagnostics.
+fn no_diagnostics(out: &Path) -> CliError {
+    CliError::Input(format!(
+        "--resume goes on with the run in {}, but there is no diagnostics.csv there (give the --out of the run that saved the state)",
+        out.display()
+    ))
+}
+
+/// Refuse a `--save-state` path that cannot be written, or would be written
+/// over one of the run's own outputs in `out`, before anything is made.
+fn check_state_path(state: &Path, out: &Path) -> Result<(), CliError> {
+    let absolute = |path: &Path| std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let (state, out) = (absolute(state), absolute(out));
+    let refuse = |why: String| {
+        Err(CliError::Input(format!(
+            "--save-state {}: {why}",
+            state.display()
+        )))
+    };
+    if state.is_dir() {
+        return refuse("is a folder (give a file name)".into());
+    }
+    let outputs = [
+        "diagnostics.csv",
+        "diagnostics.csv.partial",
+        "animation.glb",
+    ];
+    if outputs.iter().any(|name| state == out.join(name)) || state.starts_with(out.join("frames")) {
+        return refuse(format!(
+            "is one of the run's own outputs in {} (give another file)",
+            out.display()
+        ));
+    }
+    let folder = state.parent().unwrap_or(Path::new("."));
+    if !folder.is_dir() && folder != out {
+        return refuse(format!(
+            "there is no folder {} to write it in",
+            folder.display()
+        ));
+    }
+    Ok(())
+}
+
 fn prepare_output(out: &Path, frames: Option<&Path>, first_frame: usize) -> Result<(), CliError> {
     let fail = |e: std::io::Error, dir: &Path| {
         CliError::Io(format!("cannot create {}: {e}", dir.display()))

@@ -380,6 +380,36 @@ fn bad_states_are_refused() {
     );
     assert_eq!(output.status.code(), Some(1));
     assert!(text(&output.stderr).contains("no diagnostics.csv"));
+    // A folder without the run's diagnostics is refused before it is made.
+    assert!(!d.join("elsewhere").exists(), "--out made for nothing");
+    // A state path that cannot be written, or that is one of the run's own
+    // outputs, is refused before anything is run or made.
+    for (state, expected) in [
+        ("fresh/diagnostics.csv", "one of the run's own outputs"),
+        ("fresh/frames/state.bin", "one of the run's own outputs"),
+        ("nowhere/state.bin", "there is no folder"),
+        (".", "is a folder"),
+    ] {
+        let output = sprung(
+            &[&base[..], &["--out", "fresh", "--save-state", state]].concat(),
+            d,
+        );
+        let stderr = text(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{state}: {stderr}");
+        assert!(stderr.contains(expected), "{state}: {stderr}");
+        assert!(!d.join("fresh").exists(), "{state}: --out made for nothing");
+    }
+    // A state file inside the run's own (new) folder is fine.
+    let output = sprung(
+        &[
+            &base[..],
+            &["--out", "inside", "--save-state", "inside/state.bin"],
+        ]
+        .concat(),
+        d,
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert!(d.join("inside/state.bin").is_file());
     // --checkpoint-every needs --save-state: a usage error.
     let output = sprung(&[&base[..], &["--checkpoint-every", "5"]].concat(), d);
     assert_eq!(output.status.code(), Some(2));
