@@ -214,3 +214,25 @@ fn gravitation_is_the_same_on_one_and_two_threads() {
     );
     assert_same_on_one_and_two_threads(&scene, "gravitation");
 }
+
+#[test]
+fn a_pile_of_small_gas_balls_is_the_same_on_one_and_two_threads() {
+    // 36 gas balls of 162 particles (5832 in all, more than a chunk), each
+    // small enough for its pressure to be added on a thread of its own,
+    // in a 6 × 6 grid on a floor, 5 mm apart: the bodies split between the
+    // threads, and touch.
+    let mut scene = String::from(
+        "[sim]\ndt = 1e-4\nintegrator = \"symplectic_euler\"\nsteps = 20\nevery = 2\n\n\
+         [[collider]]\nplane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }\n\
+         friction = 0.3\n",
+    );
+    for i in 0..36 {
+        let (x, z) = (0.205 * f64::from(i % 6), 0.205 * f64::from(i / 6));
+        scene.push_str(&format!(
+            "\n[[body]]\nname = \"ball{i}\"\nsphere = {{ radius = 0.1, subdivisions = 2 }}\n\
+             total_mass = 0.1\nstiffness = 500.0\ndamping = 0.2\ntranslate = [{x}, 0.1, {z}]\n\
+             gas = {{ nrt = 20.0, ramp_time = 0.0 }}\n"
+        ));
+    }
+    assert_same_on_one_and_two_threads(&scene, "pile of gas balls");
+}

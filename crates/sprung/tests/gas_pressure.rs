@@ -893,3 +893,45 @@ fn bad_gas_parameters_are_refused() {
         assert!(error.to_string().contains(&format!("`{field}`")), "{error}");
     }
 }
+
+#[test]
+fn a_gas_ball_after_other_bodies_feels_the_same_pressure() {
+    // Claim: a body's pressure goes to its own particles wherever they
+    // start in the world (small surfaces are added into the body's own
+    // entries). The same ball alone and after a rope far away (its
+    // particles first in the world) moves to the same bits.
+    let ball = || {
+        let mut ball = build::icosphere(0.5, 2, SurfaceSprings::default())
+            .expect("icosphere")
+            .with_total_mass(1.0)
+            .with_stiffness(500.0)
+            .with_damping(0.1);
+        ball.gas = Some(Gas::new(50.0, 0.0));
+        ball
+    };
+    let run = |others: bool| {
+        let mut world = World::new(IntegratorKind::SymplecticEuler);
+        world.set_gravity(Vec3::ZERO);
+        if others {
+            let rope = build::rope(7, 1.0).expect("rope").placed(
+                1.0,
+                Vec3::ZERO,
+                Vec3::new(50.0, 0.0, 0.0),
+            );
+            world.add_body("rope", rope).expect("rope");
+        }
+        let id = world.add_body("ball", ball()).expect("ball");
+        for _ in 0..50 {
+            world.step(1e-3).expect("steps");
+        }
+        world.particles.position[world.bodies[id].particles.clone()].to_vec()
+    };
+    let (alone, after) = (run(false), run(true));
+    assert_eq!(alone, after);
+    // And the gas did push: the ball grew from its rest radius.
+    let centre = alone.iter().sum::<Vec3>() / alone.len() as f64;
+    assert!(
+        alone.iter().all(|p| p.distance(centre) > 0.5),
+        "the gas pushed out"
+    );
+}

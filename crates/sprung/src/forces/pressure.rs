@@ -19,7 +19,9 @@
 //! is left out: [`Linearization::Approximate`]. Bodies whose volume model
 //! is not the exact one give no Jacobian (their gas is explicit).
 
-use super::surfaces::Surfaces;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use super::surfaces::{on_its_own, own_surface, BodySurface, Surfaces};
 use super::{Force, ForceContext, JacobianScale, Linearization};
 use crate::body::Body;
 use crate::gas::VolumeModel;
@@ -48,33 +50,24 @@ impl GasPressure {
     }
 }
 
-/// Add the gradient of `body`'s enclosed volume (area in 2D) with respect
-/// to each vertex, `∂V/∂x_i` (m², or m in 2D), times `scale`, to `out`; the
-/// surface's elements are added block by block (`surfaces`).
-fn add_volume_gradient(
-    (index, body): (usize, &Body),
-    surfaces: &mut Surfaces,
-    x: &[Vec3],
-    scale: Real,
-    out: &mut [Vec3],
-) {
-    if body.is_planar() {
-        let segments = surfaces.segments(index, body, x.len());
-        segments.scatter(out, |_, w| {
+/// Add the gradient of a body's enclosed volume (area in 2D) with respect
+/// to each vertex, `∂V/∂x_i` (m², or m in 2D), times `scale`, to `out`,
+/// element by element of its `surface` at `x` (m).
+fn add_volume_gradient(surface: BodySurface<'_>, x: &[Vec3], scale: Real, out: &mut [Vec3]) {
+    match surface {
+        BodySurface::Segments(segments) => segments.scatter(out, |_, w| {
             let d = x[w.particle(1)] - x[w.particle(0)];
             // l n = (Δy, -Δx) for a counter-clockwise loop.
             let share = 0.5 * scale * Vec3::new(d.y, -d.x, 0.0);
             w.add(0, share);
             w.add(1, share);
-        });
-    } else {
-        let faces = surfaces.faces(index, body, x.len());
-        faces.scatter(out, |_, w| {
+        }),
+        BodySurface::Faces(faces) => faces.scatter(out, |_, w| {
             let [a, b, c] = [w.particle(0), w.particle(1), w.particle(2)];
             let area_normal = 0.5 * (x[b] - x[a]).cross(x[c] - x[a]);
             let share = scale / 3.0 * area_normal;
             (0..3).for_each(|k| w.add(k, share));
-        });
+        }),
     }
 }
 
@@ -84,10 +77,33 @@ impl Force for GasPressure {
     }
 
     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
-        for (index, body) in context.bodies.iter().enumerate() {
-            if let Some(pressure) = pressure(body, context.position, context.time) {
-                let surfaces = &mut self.surfaces;
-                add_volume_gradient((index, body), surfaces, context.position, pressure, force);
+        let (bodies, x, time) = (context.bodies, context.position, context.time);
+        // Bodies of small surfaces (a pile of gas balls) on the threads, a
+        // body at a time: each adds into its own particles only. Then the
+        // others, each large surface block by block on the threads.
+        let left = AtomicBool::new(false);
+        let body_range = |b: usize| bodies[b].particles.clone();
+        parallel::for_each_range(force, bodies.len(), body_range, |b, own| {
+            let body = &bodies[b];
+            if body.gas.is_none() {
+                return;
+            }
+            if !on_its_own(body) {
+                left.store(true, Ordering::Relaxed);
+            } else if let Some(pressure) = pressure(body, x, time) {
+                add_volume_gradient(own_surface(body), x, pressure, own);
+            }
+        });
+        if !left.into_inner() {
+            return;
+        }
+        for (index, body) in bodies.iter().enumerate() {
+            if body.gas.is_none() || on_its_own(body) {
+                continue;
+            }
+            if let Some(pressure) = pressure(body, x, time) {
+                let surface = self.surfaces.surface(index, body, x.len());
+                add_volume_gradient(surface, x, pressure, force);
             }
         }
     }
@@ -114,13 +130,8 @@ impl Force for GasPressure {
             }
             let volume = gas.volume_model.volume(body, x);
             if volume > 0.0 {
-                add_volume_gradient(
-                    (index, body),
-                    &mut self.surfaces,
-                    x,
-                    1.0,
-                    &mut self.gradient,
-                );
+                let surface = self.surfaces.surface(index, body, x.len());
+                add_volume_gradient(surface, x, 1.0, &mut self.gradient);
                 let stiffness = gas.nrt_at(context.time) / (volume * volume);
                 self.stiff.push((body.particles.clone(), stiffness));
             }

@@ -20,8 +20,13 @@ pub enum Surface<'a, const W: usize> {
     /// At most [`CHUNK`] elements: one thread takes them in their stored
     /// order (a schedule would run them on one thread too, and checking
     /// whether it still fits the body's list each step would cost as much
-    /// as the force).
-    InOrder(&'a [[u32; W]]),
+    /// as the force), adding into entries that start at particle `first`.
+    InOrder {
+        /// The elements.
+        members: &'a [[u32; W]],
+        /// The particle of the first entry added into.
+        first: usize,
+    },
     /// More: in the blocks of the schedule.
     Scheduled(&'a Schedule<W>),
 }
@@ -37,9 +42,50 @@ impl<const W: usize> Surface<'_, W> {
         f: impl Fn(usize, &Writer<'_, T, W>) + Sync,
     ) {
         match self {
-            Surface::InOrder(members) => parallel::scatter_in_order(members, out, f),
+            Surface::InOrder { members, first } => {
+                parallel::scatter_in_order(members, out, *first, f);
+            }
             Surface::Scheduled(schedule) => schedule.scatter(out, f),
         }
+    }
+}
+
+/// The surface of a body that encloses something: its segments in 2D, its
+/// faces otherwise.
+pub enum BodySurface<'a> {
+    /// A 2D loop.
+    Segments(Surface<'a, 2>),
+    /// Triangles.
+    Faces(Surface<'a, 3>),
+}
+
+/// Whether a force can add `body`'s surface into the body's own entries
+/// alone, on a thread of its own ([`own_surface`]): at most [`CHUNK`]
+/// elements, naming the body's particles only (the builders' and meshes'
+/// bodies always do; a list changed by hand may not).
+pub fn on_its_own(body: &Body) -> bool {
+    let own = |p: &u32| body.particles.contains(&(*p as usize));
+    if body.is_planar() {
+        body.segments.len() <= CHUNK && body.segments.iter().flatten().all(own)
+    } else {
+        body.faces.len() <= CHUNK && body.faces.iter().flatten().all(own)
+    }
+}
+
+/// `body`'s surface in its stored order, adding into the body's own
+/// entries (`out[body.particles]`); for bodies [`on_its_own`].
+pub fn own_surface(body: &Body) -> BodySurface<'_> {
+    let first = body.particles.start;
+    if body.is_planar() {
+        BodySurface::Segments(Surface::InOrder {
+            members: &body.segments,
+            first,
+        })
+    } else {
+        BodySurface::Faces(Surface::InOrder {
+            members: &body.faces,
+            first,
+        })
     }
 }
 
@@ -51,7 +97,8 @@ impl Surfaces {
         &mut self.bodies[index]
     }
 
-    /// The triangles of body `index` (`body`), among `particles` particles.
+    /// The triangles of body `index` (`body`), among `particles` particles,
+    /// adding into entries of all of them.
     pub fn faces<'a>(
         &'a mut self,
         index: usize,
@@ -59,13 +106,17 @@ impl Surfaces {
         particles: usize,
     ) -> Surface<'a, 3> {
         if body.faces.len() <= CHUNK {
-            Surface::InOrder(&body.faces)
+            Surface::InOrder {
+                members: &body.faces,
+                first: 0,
+            }
         } else {
             Surface::Scheduled(self.of(index).0.get(&body.faces, particles))
         }
     }
 
-    /// The segments of body `index` (`body`), among `particles` particles.
+    /// The segments of body `index` (`body`), among `particles` particles,
+    /// adding into entries of all of them.
     pub fn segments<'a>(
         &'a mut self,
         index: usize,
@@ -73,9 +124,27 @@ impl Surfaces {
         particles: usize,
     ) -> Surface<'a, 2> {
         if body.segments.len() <= CHUNK {
-            Surface::InOrder(&body.segments)
+            Surface::InOrder {
+                members: &body.segments,
+                first: 0,
+            }
         } else {
             Surface::Scheduled(self.of(index).1.get(&body.segments, particles))
+        }
+    }
+
+    /// The enclosing surface of body `index` ([`BodySurface`]), among
+    /// `particles` particles, adding into entries of all of them.
+    pub fn surface<'a>(
+        &'a mut self,
+        index: usize,
+        body: &'a Body,
+        particles: usize,
+    ) -> BodySurface<'a> {
+        if body.is_planar() {
+            BodySurface::Segments(self.segments(index, body, particles))
+        } else {
+            BodySurface::Faces(self.faces(index, body, particles))
         }
     }
 }

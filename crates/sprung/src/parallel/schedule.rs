@@ -565,8 +565,12 @@ enum Entries<'a, T, const W: usize> {
         block: &'a Block<'a, T, W>,
         e: usize,
     },
-    /// Straight into the entries, from the one thread that holds them.
-    Own(&'a [Cell<T>]),
+    /// Straight into the entries, from the one thread that holds them:
+    /// particle `i`'s entry is `entries[i - first]`.
+    Own {
+        entries: &'a [Cell<T>],
+        first: usize,
+    },
 }
 
 impl<T: Copy + AddAssign, const W: usize> Writer<'_, T, W> {
@@ -579,8 +583,8 @@ impl<T: Copy + AddAssign, const W: usize> Writer<'_, T, W> {
     pub fn add(&self, k: usize, value: T) {
         match &self.into {
             Entries::Block { block, e } => block.add(*e, k, value),
-            Entries::Own(entries) => {
-                let entry = &entries[self.particles[k] as usize];
+            Entries::Own { entries, first } => {
+                let entry = &entries[self.particles[k] as usize - first];
                 let mut sum = entry.get();
                 sum += value;
                 entry.set(sum);
@@ -591,22 +595,25 @@ impl<T: Copy + AddAssign, const W: usize> Writer<'_, T, W> {
 
 /// Call `f(element, writer)` for every element of `members` (each `W`
 /// particles), in their order, on the calling thread: the writer adds into
-/// `out` at the element's own particles. For lists too short to share
-/// among threads (at most [`CHUNK`] elements, which a [`Schedule`] would
-/// run on one thread as well), without making or checking a schedule.
+/// `out` at the element's own particles, particle `i` at `out[i - first]`
+/// (`out` holds the entries of particles `first..`). For lists too short
+/// to share among threads (at most [`CHUNK`] elements, which a
+/// [`Schedule`] would run on one thread as well), without making or
+/// checking a schedule.
 ///
 /// # Panics
-/// If an element's particle is beyond `out`.
+/// If an element's particle is outside `first..first + out.len()`.
 pub fn scatter_in_order<T: Copy + AddAssign, const W: usize>(
     members: &[[u32; W]],
     out: &mut [T],
+    first: usize,
     f: impl Fn(usize, &Writer<'_, T, W>),
 ) {
     let entries = Cell::from_mut(out).as_slice_of_cells();
     for (e, &particles) in members.iter().enumerate() {
         let writer = Writer {
             particles,
-            into: Entries::Own(entries),
+            into: Entries::Own { entries, first },
         };
         f(e, &writer);
     }
@@ -753,7 +760,7 @@ mod tests {
             expected[*j as usize] += Chain(2 * s as u64 + 2);
         }
         let mut out = vec![Chain::default(); expected.len()];
-        scatter_in_order(&springs, &mut out, |s, w| {
+        scatter_in_order(&springs, &mut out, 0, |s, w| {
             assert_eq!(
                 [w.particle(0), w.particle(1)],
                 springs[s].map(|p| p as usize)
@@ -762,6 +769,16 @@ mod tests {
             w.add(1, Chain(2 * s as u64 + 2));
         });
         let bits = |v: &[Chain]| v.iter().map(|c| c.0).collect::<Vec<_>>();
+        assert_eq!(bits(&out), bits(&expected));
+        // The same springs numbered from particle 7 on, added into entries
+        // that start there.
+        let moved: Vec<[u32; 2]> = springs.iter().map(|s| s.map(|p| p + 7)).collect();
+        let mut out = vec![Chain::default(); expected.len()];
+        scatter_in_order(&moved, &mut out, 7, |s, w| {
+            assert_eq!(w.particle(0), moved[s][0] as usize);
+            w.add(0, Chain(2 * s as u64 + 1));
+            w.add(1, Chain(2 * s as u64 + 2));
+        });
         assert_eq!(bits(&out), bits(&expected));
     }
 
