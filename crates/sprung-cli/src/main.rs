@@ -101,7 +101,7 @@ pub struct RunOptions {
     /// Particle indices whose positions go to diagnostics.csv, e.g. 0,5,9.
     #[arg(long, value_delimiter = ',')]
     probe: Vec<usize>,
-    /// Print nothing but errors.
+    /// Print nothing but errors and warnings.
     #[arg(long)]
     quiet: bool,
     /// Override the scene's integrator.

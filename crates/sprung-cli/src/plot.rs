@@ -43,7 +43,7 @@ pub struct PlotArgs {
     /// Units of a 2D (m², N/m) or 3D (m³, Pa) run; default: 2D when every z is zero.
     #[arg(long, value_name = "2|3")]
     dimension: Option<Dimension>,
-    /// Print nothing but errors.
+    /// Print nothing but errors and warnings.
     #[arg(long)]
     quiet: bool,
 }

@@ -20,7 +20,8 @@ use crate::values;
 #[derive(Debug, Args)]
 pub struct RenderArgs {
     /// A scene file (.toml) to run and draw, or a run folder holding
-    /// frames/frame_*.vtk (written by `sprung run SCENE --format vtk`).
+    /// frames/frame_*.vtu or .vtk (written by `sprung run SCENE --format
+    /// vtu` or `vtk`).
     source: PathBuf,
     /// Output folder (default: out/SCENE/render for a scene, DIR/render
     /// for a run folder).
@@ -76,7 +77,7 @@ pub struct RenderArgs {
     /// Override a scene's integrator.
     #[arg(long)]
     integrator: Option<IntegratorKind>,
-    /// Print nothing but errors.
+    /// Print nothing but errors and warnings.
     #[arg(long)]
     quiet: bool,
 }

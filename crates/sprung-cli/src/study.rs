@@ -69,7 +69,7 @@ pub struct StabilityArgs {
     /// Study only these integrators (repeat the option or separate with commas) [default: all].
     #[arg(long, value_delimiter = ',')]
     integrator: Vec<IntegratorKind>,
-    /// Print nothing but errors.
+    /// Print nothing but errors and warnings.
     #[arg(long)]
     quiet: bool,
 }

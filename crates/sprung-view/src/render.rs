@@ -67,7 +67,7 @@ use sprung_io::export::VtkReadError;
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
     /// A run folder without VTK frames (the path of its `frames/`).
-    #[error("no VTK frames in {} (expected frame_000000.vtk ..., written by `sprung run SCENE --format vtk`)", .0.display())]
+    #[error("no VTK frames in {} (expected frame_000000.vtu or .vtk ..., written by `sprung run SCENE --format vtu` or `vtk`)", .0.display())]
     NoFrames(PathBuf),
     /// A VTK frame that cannot be read (file and line inside).
     #[error("{0}")]
