@@ -65,8 +65,8 @@ impl<'a> Outputs<'a> {
             check_state_path(state, out)?;
         }
         let csv = out.join("diagnostics.csv");
-        let partial = out.join("diagnostics.csv.partial");
-        if resumed.is_some() && !csv.is_file() && !partial.is_file() {
+        let table = |name: &&str| out.join(name).is_file();
+        if resumed.is_some() && !DIAGNOSTICS_TABLES.iter().any(table) {
             return Err(no_diagnostics(out));
         }
         let frames_dir = out.join("frames");
@@ -215,9 +215,6 @@ fn io(path: &Path, e: std::io::Error) -> CliError {
     CliError::Io(format!("cannot write to {}: {e}", path.display()))
 }
 
-/// Create the output folder and, for frames, `frames/` without frames
-/// numbered from `first_frame` on (earlier frames of this run's format
-/// would mix into the new sequence; a resumed run keeps those before).
 /// The error of a resumed run whose `out` holds no diagnostics.
 fn no_diagnostics(out: &Path) -> CliError {
     CliError::Input(format!(
@@ -226,26 +223,62 @@ fn no_diagnostics(out: &Path) -> CliError {
     ))
 }
 
+/// The tables of a run's diagnostics that a resumed run can go on from
+/// (`Diagnostics::resume` reads the first that exists).
+const DIAGNOSTICS_TABLES: [&str; 3] = [
+    "diagnostics.csv",
+    "diagnostics.csv.partial",
+    "diagnostics.csv.previous",
+];
+
+/// `path` made absolute, with its longest existing part resolved (links
+/// followed, `..` taken away), so two names of one file compare equal.
+fn resolved(path: &Path) -> PathBuf {
+    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let mut base = absolute.clone();
+    let mut rest = Vec::new();
+    while !base.exists() {
+        let Some(last) = base.components().next_back() else {
+            return absolute;
+        };
+        rest.push(last.as_os_str().to_owned());
+        if !base.pop() {
+            return absolute;
+        }
+    }
+    let mut resolved = base.canonicalize().unwrap_or(base);
+    // The part that does not exist yet has no links: its `..` go back a
+    // name.
+    for name in rest.iter().rev() {
+        match name.to_str() {
+            Some("..") => {
+                resolved.pop();
+            }
+            Some(".") => {}
+            _ => resolved.push(name),
+        }
+    }
+    resolved
+}
+
 /// Refuse a `--save-state` path that cannot be written, or would be written
-/// over one of the run's own outputs in `out`, before anything is made.
+/// over one of the run's own outputs in `out` (or over `out` itself),
+/// before anything is made.
 fn check_state_path(state: &Path, out: &Path) -> Result<(), CliError> {
-    let absolute = |path: &Path| std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-    let (state, out) = (absolute(state), absolute(out));
-    let refuse = |why: String| {
-        Err(CliError::Input(format!(
-            "--save-state {}: {why}",
-            state.display()
-        )))
-    };
+    let shown = state.display().to_string();
+    let refuse = |why: String| Err(CliError::Input(format!("--save-state {shown}: {why}")));
+    if state.as_os_str().is_empty() {
+        return refuse("is empty (give a file name)".into());
+    }
+    let (state, out) = (resolved(state), resolved(out));
     if state.is_dir() {
         return refuse("is a folder (give a file name)".into());
     }
-    let outputs = [
-        "diagnostics.csv",
-        "diagnostics.csv.partial",
-        "animation.glb",
-    ];
-    if outputs.iter().any(|name| state == out.join(name)) || state.starts_with(out.join("frames")) {
+    if out.starts_with(&state) {
+        return refuse(format!("is the run's folder {} or holds it", out.display()));
+    }
+    let own = DIAGNOSTICS_TABLES.iter().chain(&["animation.glb"]);
+    if own.clone().any(|name| state == out.join(name)) || state.starts_with(out.join("frames")) {
         return refuse(format!(
             "is one of the run's own outputs in {} (give another file)",
             out.display()
@@ -261,6 +294,9 @@ fn check_state_path(state: &Path, out: &Path) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Create the output folder and, for frames, `frames/` without frames
+/// numbered from `first_frame` on (earlier frames of this run's format
+/// would mix into the new sequence; a resumed run keeps those before).
 fn prepare_output(out: &Path, frames: Option<&Path>, first_frame: usize) -> Result<(), CliError> {
     let fail = |e: std::io::Error, dir: &Path| {
         CliError::Io(format!("cannot create {}: {e}", dir.display()))

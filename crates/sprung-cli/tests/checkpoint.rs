@@ -387,8 +387,13 @@ fn bad_states_are_refused() {
     for (state, expected) in [
         ("fresh/diagnostics.csv", "one of the run's own outputs"),
         ("fresh/frames/state.bin", "one of the run's own outputs"),
+        (
+            "fresh/../fresh/diagnostics.csv",
+            "one of the run's own outputs",
+        ),
         ("nowhere/state.bin", "there is no folder"),
         (".", "is a folder"),
+        ("fresh", "is the run's folder"),
     ] {
         let output = sprung(
             &[&base[..], &["--out", "fresh", "--save-state", state]].concat(),

@@ -150,9 +150,9 @@ pub enum BuildError {
         /// What the allowed range is.
         reason: &'static str,
     },
-    /// A body, or a scene's bodies in all, with more particles or springs
-    /// than a scene may hold ([`crate::build::MAX_PARTICLES`],
-    /// [`crate::build::MAX_SPRINGS`]), refused before they are made.
+    /// A builder asked for more particles or springs than a scene may hold
+    /// ([`crate::build::MAX_PARTICLES`], [`crate::build::MAX_SPRINGS`]),
+    /// refused before they are made.
     #[error("`{field}`: {count} {what}, more than the {limit} a scene may hold")]
     TooMany {
         /// Scene key of the parameter that sets the count.

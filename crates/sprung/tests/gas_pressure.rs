@@ -935,3 +935,28 @@ fn a_gas_ball_after_other_bodies_feels_the_same_pressure() {
         "the gas pushed out"
     );
 }
+
+#[test]
+fn body_ranges_changed_by_hand_take_the_world_wide_path_to_the_same_forces() {
+    // Claim: a body's pressure forces do not depend on how the bodies'
+    // particle ranges read, as long as the faces are right. Two gas balls,
+    // their ranges then edited by hand (public fields) so that they
+    // overlap, and so that one runs beyond the world's particles: no
+    // panic, and the same forces to the bit as with the ranges the world
+    // gave (each particle still gets its own body's faces, in order).
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    for (name, x) in [("left", -1.0), ("right", 1.0)] {
+        let mut ball = build::icosphere(0.5, 2, SurfaceSprings::default())
+            .expect("icosphere")
+            .placed(1.0, Vec3::ZERO, Vec3::new(x, 0.0, 0.0));
+        ball.gas = Some(Gas::new(50.0, 0.0));
+        world.add_body(name, ball).expect("ball");
+    }
+    let expected = gas_force(&world);
+    assert!(expected.iter().any(|f| f.length() > 0.0));
+    let given = world.bodies[1].particles.clone();
+    world.bodies[1].particles = given.start - 10..given.end;
+    assert_eq!(gas_force(&world), expected, "overlapping ranges");
+    world.bodies[1].particles = given.start..given.end + 10;
+    assert_eq!(gas_force(&world), expected, "a range beyond the particles");
+}

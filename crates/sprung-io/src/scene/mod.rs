@@ -592,10 +592,10 @@ fn camera(table: &tables::CameraTable) -> Result<SceneCamera, KeyError> {
     })
 }
 
-/// `value` if it is positive and finite, else an error for `key`.
 /// The largest `max_distance` (m) or `max_speed` (m/s) a scene may set.
 const MAX_LIMIT: Real = 1e100;
 
+/// `value` if it is positive and finite, else an error for `key`.
 pub(crate) fn positive(key: &'static str, value: Real, reason: &str) -> Result<Real, KeyError> {
     if value.is_finite() && value > 0.0 {
         Ok(value)

@@ -39,7 +39,8 @@ pub struct GasPressure {
     /// Per gas body with the exact volume model: its particles and
     /// `nRT / V²` (J/m⁶, or J/m⁴ in 2D).
     stiff: Vec<(std::ops::Range<usize>, Real)>,
-    /// The bodies' surfaces in blocks for the threads.
+    /// The bodies' surfaces of more than a chunk of elements, in blocks for
+    /// the threads (smaller ones are taken in order, body by body).
     surfaces: Surfaces,
 }
 
@@ -81,9 +82,11 @@ impl Force for GasPressure {
         // Bodies of small surfaces (a pile of gas balls) on the threads, a
         // body at a time: each adds into its own particles only. Then the
         // others, each large surface block by block on the threads.
+        // (When body ranges changed by hand overlap or leave the world,
+        // every gas body takes the world-wide path.)
         let left = AtomicBool::new(false);
         let body_range = |b: usize| bodies[b].particles.clone();
-        parallel::for_each_range(force, bodies.len(), body_range, |b, own| {
+        let apart = parallel::for_each_range(force, bodies.len(), body_range, |b, own| {
             let body = &bodies[b];
             if body.gas.is_none() {
                 return;
@@ -94,11 +97,11 @@ impl Force for GasPressure {
                 add_volume_gradient(own_surface(body), x, pressure, own);
             }
         });
-        if !left.into_inner() {
+        if apart && !left.into_inner() {
             return;
         }
         for (index, body) in bodies.iter().enumerate() {
-            if body.gas.is_none() || on_its_own(body) {
+            if body.gas.is_none() || (apart && on_its_own(body)) {
                 continue;
             }
             if let Some(pressure) = pressure(body, x, time) {

@@ -79,7 +79,8 @@ pub struct Wind {
     pub body_scale: Vec<Real>,
     /// Scratch: the summed face normals around each particle (simple model).
     normals: Vec<Vec3>,
-    /// The bodies' surfaces in blocks for the threads.
+    /// The bodies' surfaces of more than a chunk of elements, in blocks for
+    /// the threads (smaller ones are taken in order).
     surfaces: Surfaces,
 }
 

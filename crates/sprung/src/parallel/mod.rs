@@ -315,19 +315,16 @@ split_mut_tuple!(A, B, C, D, E);
 
 /// Call `f(item, entries)` for each item of `0..count` with its own
 /// entries `out[range(item)]` (a body and its particles), in parallel over
-/// pieces of consecutive items of about [`CHUNK`] entries when the ranges
-/// follow each other without overlapping (each within `out`); else one
-/// item after another on the calling thread. Each item writes its own
-/// entries only, so the result does not depend on the threads.
-///
-/// # Panics
-/// If a range is not within `out`.
+/// pieces of consecutive items of about [`CHUNK`] entries. Each item writes
+/// its own entries only, so the result does not depend on the threads.
+/// The ranges must follow each other without overlapping, within `out`;
+/// when they do not, nothing is called and `false` is returned.
 pub fn for_each_range<T: Send>(
     out: &mut [T],
     count: usize,
     range: impl Fn(usize) -> Range<usize> + Sync,
     f: impl Fn(usize, &mut [T]) + Sync,
-) {
+) -> bool {
     fn run<T: Send>(
         out: &mut [T],
         base: usize,
@@ -355,16 +352,10 @@ pub fn for_each_range<T: Send>(
         let r = range(item);
         r.start <= r.end && r.end <= out.len() && (item == 0 || range(item - 1).end <= r.start)
     });
-    if count == 0 {
-        return;
-    }
-    if in_order {
+    if in_order && count > 0 {
         run(out, 0, 0..count, &range, &f);
-    } else {
-        for item in 0..count {
-            f(item, &mut out[range(item)]);
-        }
     }
+    in_order
 }
 
 /// Call `f(start, spans)` on pieces of `slices` (of at most [`CHUNK`]
@@ -394,8 +385,9 @@ mod tests {
         // Claim: `for_each_range` hands item `i` exactly `out[range(i)]`:
         // 300 items of 1 to 60 entries with gaps (some 18 000 entries, so
         // they split over two threads), each writing its index and the
-        // entry's offset; entries of no item stay untouched. Then the
-        // same ranges listed out of order, which run one by one.
+        // entry's offset; entries of no item stay untouched. The same
+        // ranges listed out of order, or with one beyond `out`, are
+        // refused and nothing is touched.
         let sizes: Vec<usize> = (0..300).map(|i| 1 + (i * 37) % 60).collect();
         let mut ranges = Vec::new();
         let mut at = 0;
@@ -414,9 +406,12 @@ mod tests {
             out
         };
         let pool = Pool::new(2).expect("two threads");
-        for ranges in [ranges.clone(), ranges.iter().rev().cloned().collect()] {
+        let mut beyond = ranges.clone();
+        beyond.push(at..at + 6);
+        let reversed: Vec<_> = ranges.iter().rev().cloned().collect();
+        for (ranges, runs) in [(&ranges, true), (&reversed, false), (&beyond, false)] {
             let mut out = vec![(usize::MAX, 0); at + 5];
-            pool.install(|| {
+            let ran = pool.install(|| {
                 for_each_range(
                     &mut out,
                     ranges.len(),
@@ -426,9 +421,11 @@ mod tests {
                             *entry = (i, k);
                         }
                     },
-                );
+                )
             });
-            assert_eq!(out, expected(&ranges));
+            assert_eq!(ran, runs);
+            let untouched = vec![(usize::MAX, 0); at + 5];
+            assert_eq!(out, if runs { expected(ranges) } else { untouched });
         }
     }
 }
