@@ -65,6 +65,19 @@ fn asc_face_index_out_of_range() {
 }
 
 #[test]
+fn asc_face_with_a_vertex_twice() {
+    let text = with_line(
+        &mesh_text("cube.asc"),
+        13,
+        "Face 0: A:2 B:1 C:2 AB:1 BC:1 CA:1",
+    );
+    assert_eq!(
+        error_of(&text, "cube.asc").to_string(),
+        "cube.asc:13: object \"Cube\": face 0: vertex 2 is listed twice; a face needs distinct vertices"
+    );
+}
+
+#[test]
 fn asc_counts_that_disagree_with_the_header() {
     let cube = mesh_text("cube.asc");
     let text = with_line(&cube, 2, "Tri-mesh, Vertices: 9 Faces: 12");
@@ -230,6 +243,15 @@ fn obj_errors_name_the_line() {
             with_line(good, 4, "f 1 2"),
             "t.obj:4: face 0 has 2 corners; a face needs at least 3",
         ),
+        // A vertex twice in a face, also when counted back from the last.
+        (
+            with_line(good, 4, "f 1 1 2"),
+            "t.obj:4: face 0: vertex 1 is listed twice (as \"1\"); a face needs distinct vertices",
+        ),
+        (
+            with_line(good, 4, "f 1 2 -1 3"),
+            "t.obj:4: face 0: vertex 3 is listed twice (as \"3\"); a face needs distinct vertices",
+        ),
         (
             with_line(good, 4, "f 1 2 99999999999999999999"),
             "t.obj:4: face 0: expected a vertex index, found \"99999999999999999999\"",
@@ -287,6 +309,10 @@ fn off_errors_name_the_line() {
         (
             with_line(small, 6, "2 0 1"),
             "t.off:6: face 0 has 2 vertices; a face needs at least 3",
+        ),
+        (
+            with_line(small, 6, "3 0 1 1"),
+            "t.off:6: face 0: vertex 1 is listed twice; a face needs distinct vertices",
         ),
         (
             with_line(small, 1, "PLY"),

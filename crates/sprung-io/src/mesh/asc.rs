@@ -397,6 +397,16 @@ impl MeshBuilder {
             }
             *slot = vertex;
         }
+        if let Some(&twice) = triangle
+            .iter()
+            .enumerate()
+            .find_map(|(k, v)| triangle[..k].contains(v).then_some(v))
+            .as_ref()
+        {
+            return Err(syntax(format!(
+                "face {index}: vertex {twice} is listed twice; a face needs distinct vertices"
+            )));
+        }
         self.section = Section::Faces;
         self.triangles.push(triangle);
         Ok(())

@@ -216,6 +216,8 @@ fn face(
     total: Counts,
 ) -> Result<(), MeshErrorKind> {
     let mut corners = 0;
+    // The corners' vertices (0-based), to refuse one listed twice.
+    let mut vertices: Vec<i64> = Vec::new();
     for word in words {
         corners += 1;
         let mut parts = word.split('/');
@@ -235,6 +237,21 @@ fn face(
             )));
         }
         index(v, face, seen.v, total.v, "vertex", "vertices")?;
+        // In range (checked just above): 1-based, or back from the last.
+        let value: i64 = v.parse().unwrap_or(0);
+        let vertex = if value > 0 {
+            value - 1
+        } else {
+            seen.v as i64 + value
+        };
+        if vertices.contains(&vertex) {
+            return Err(syntax(format!(
+                "face {face}: vertex {} is listed twice (as {}); a face needs distinct vertices",
+                vertex + 1,
+                shown(word)
+            )));
+        }
+        vertices.push(vertex);
         if !t.is_empty() {
             index(
                 t,

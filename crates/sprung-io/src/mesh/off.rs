@@ -165,6 +165,11 @@ fn face(
                 vertices: vertex_count,
             });
         }
+        if corners.contains(&index) {
+            return Err(syntax(format!(
+                "face {face}: vertex {index} is listed twice; a face needs distinct vertices"
+            )));
+        }
         corners.push(index);
     }
     if let Some((&first, rest)) = corners.split_first() {
