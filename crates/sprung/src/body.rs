@@ -606,10 +606,12 @@ impl BodyData {
             };
             // Each triangle once: from its rod opposite its highest particle.
             for &third in ends[&near].iter().filter(|&&c| c > a.max(b)) {
-                let Some(side) = rod_between(far, third) else {
+                // `third` is among `near`'s ends, so that rod is there too.
+                let (Some(side), Some(side_near)) =
+                    (rod_between(far, third), rod_between(near, third))
+                else {
                     continue;
                 };
-                let side_near = rod_between(near, third).expect("listed among near's ends");
                 let mut triangle =
                     [rod, side, side_near].map(|s| (self.rod_length(&self.rods[s]), s));
                 triangle.sort_by(|x, y| y.0.total_cmp(&x.0));
