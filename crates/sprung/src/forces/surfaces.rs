@@ -105,14 +105,7 @@ impl Surfaces {
         body: &'a Body,
         particles: usize,
     ) -> Surface<'a, 3> {
-        if body.faces.len() <= CHUNK {
-            Surface::InOrder {
-                members: &body.faces,
-                first: 0,
-            }
-        } else {
-            Surface::Scheduled(self.of(index).0.get(&body.faces, particles))
-        }
+        world_wide(&mut self.of(index).0, &body.faces, particles)
     }
 
     /// The segments of body `index` (`body`), among `particles` particles,
@@ -123,14 +116,7 @@ impl Surfaces {
         body: &'a Body,
         particles: usize,
     ) -> Surface<'a, 2> {
-        if body.segments.len() <= CHUNK {
-            Surface::InOrder {
-                members: &body.segments,
-                first: 0,
-            }
-        } else {
-            Surface::Scheduled(self.of(index).1.get(&body.segments, particles))
-        }
+        world_wide(&mut self.of(index).1, &body.segments, particles)
     }
 
     /// The enclosing surface of body `index` ([`BodySurface`]), among
@@ -146,5 +132,20 @@ impl Surfaces {
         } else {
             BodySurface::Faces(self.faces(index, body, particles))
         }
+    }
+}
+
+/// `members` (elements among `particles` particles), adding into entries of
+/// all the particles: in their order when few, else through `cache`'s
+/// schedule.
+fn world_wide<'a, const W: usize>(
+    cache: &'a mut ScheduleCache<W>,
+    members: &'a [[u32; W]],
+    particles: usize,
+) -> Surface<'a, W> {
+    if members.len() <= CHUNK {
+        Surface::InOrder { members, first: 0 }
+    } else {
+        Surface::Scheduled(cache.get(members, particles))
     }
 }
