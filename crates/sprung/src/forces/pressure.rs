@@ -54,6 +54,7 @@ impl GasPressure {
 /// Add the gradient of a body's enclosed volume (area in 2D) with respect
 /// to each vertex, `∂V/∂x_i` (m², or m in 2D), times `scale`, to `out`,
 /// element by element of its `surface` at `x` (m).
+#[inline(always)]
 fn add_volume_gradient(surface: BodySurface<'_>, x: &[Vec3], scale: Real, out: &mut [Vec3]) {
     match surface {
         BodySurface::Segments(segments) => segments.scatter(out, |_, w| {

@@ -36,6 +36,7 @@ impl<const W: usize> Surface<'_, W> {
     /// `out` at the element's particles (see [`Schedule::scatter`]). Each
     /// particle receives its contributions in an order fixed by the
     /// elements, whatever the number of threads.
+    #[inline(always)]
     pub fn scatter<T: Send + Copy + AddAssign>(
         &self,
         out: &mut [T],

@@ -575,11 +575,13 @@ enum Entries<'a, T, const W: usize> {
 
 impl<T: Copy + AddAssign, const W: usize> Writer<'_, T, W> {
     /// The element's `k`-th particle.
+    #[inline(always)]
     pub fn particle(&self, k: usize) -> usize {
         self.particles[k] as usize
     }
 
     /// Add `value` to the entry of the element's `k`-th particle.
+    #[inline(always)]
     pub fn add(&self, k: usize, value: T) {
         match &self.into {
             Entries::Block { block, e } => block.add(*e, k, value),
@@ -603,6 +605,7 @@ impl<T: Copy + AddAssign, const W: usize> Writer<'_, T, W> {
 ///
 /// # Panics
 /// If an element's particle is outside `first..first + out.len()`.
+#[inline(always)]
 pub fn scatter_in_order<T: Copy + AddAssign, const W: usize>(
     members: &[[u32; W]],
     out: &mut [T],
