@@ -7,6 +7,7 @@ use clap::Args;
 use sprung_view::plot::{self, Dimension, PlotError, PlotOptions, Scale};
 
 use crate::run::CliError;
+use crate::values;
 
 /// Arguments of `sprung plot`.
 #[derive(Debug, Args)]
@@ -34,11 +35,11 @@ pub struct PlotArgs {
     /// Output folder (default: DIR/plots).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Image width (px).
-    #[arg(long, default_value_t = 1000)]
+    /// Image width (px), 200 to 4000.
+    #[arg(long, default_value_t = 1000, value_parser = values::plot_side)]
     width: u32,
-    /// Image height (px).
-    #[arg(long, default_value_t = 600)]
+    /// Image height (px), 200 to 4000.
+    #[arg(long, default_value_t = 600, value_parser = values::plot_side)]
     height: u32,
     /// Units of a 2D (m², N/m) or 3D (m³, Pa) run; default: 2D when every z is zero.
     #[arg(long, value_name = "2|3")]

@@ -3,6 +3,7 @@
 //! anything runs, like an unparsable one.
 
 use sprung_io::scene::MAX_STEPS;
+use sprung_view::plot;
 use sprung_view::render::{MAX_SIZE, MIN_SIZE};
 
 /// A step count: 1 to [`MAX_STEPS`], the limit of the scene key `steps`.
@@ -43,11 +44,21 @@ pub fn field_of_view(text: &str) -> Result<f64, String> {
     }
 }
 
-/// A picture side of [`MIN_SIZE`] to [`MAX_SIZE`] pixels.
+/// A picture side of [`MIN_SIZE`] to [`MAX_SIZE`] pixels (`render`).
 pub fn picture_side(text: &str) -> Result<u32, String> {
+    side_within(text, MIN_SIZE, MAX_SIZE)
+}
+
+/// A plot side of [`plot::MIN_SIZE`] to [`plot::MAX_SIZE`] pixels (`plot`).
+pub fn plot_side(text: &str) -> Result<u32, String> {
+    side_within(text, plot::MIN_SIZE, plot::MAX_SIZE)
+}
+
+/// A whole number of pixels from `least` to `most`.
+fn side_within(text: &str, least: u32, most: u32) -> Result<u32, String> {
     match text.parse::<u32>() {
-        Ok(n) if (MIN_SIZE..=MAX_SIZE).contains(&n) => Ok(n),
-        Ok(n) => Err(format!("{n} pixels: from {MIN_SIZE} to {MAX_SIZE}")),
+        Ok(n) if (least..=most).contains(&n) => Ok(n),
+        Ok(n) => Err(format!("{n} pixels: from {least} to {most}")),
         Err(_) => Err(format!("`{text}` is not a whole number of pixels")),
     }
 }

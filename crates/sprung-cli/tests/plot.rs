@@ -242,10 +242,16 @@ fn bad_options_are_refused() {
             "{args:?}: `{words}` not in {stderr}"
         );
     };
+    // A size out of range is a usage error (status 2), as for `render`.
     refused(
         &["plot", "a", "--width", "10"],
-        1,
-        "width 10 px: must be from 200 to 4000",
+        2,
+        "'--width <WIDTH>': 10 pixels: from 200 to 4000",
+    );
+    refused(
+        &["plot", "a", "--height", "4001"],
+        2,
+        "'--height <HEIGHT>': 4001 pixels: from 200 to 4000",
     );
     refused(&["plot", "a", "b", "--out", "o"], 1, "--out takes one DIR");
     refused(&["plot"], 2, "required");

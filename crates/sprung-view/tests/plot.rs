@@ -306,6 +306,18 @@ fn runs_are_compared_on_one_chart() {
     let b = run_dir(&group, "verlet", &sample(80));
     let runs = [a.clone(), b.clone()];
     assert_eq!(plot::compare_out_dir(&runs), group.join("plots"));
+    // One run alone (or one holding another) is compared beside it, not
+    // into its own plots.
+    assert_eq!(plot::compare_out_dir(&runs[..1]), group.join("plots"));
+    let inner = group.join("euler/again");
+    assert_eq!(
+        plot::compare_out_dir(&[a.clone(), inner]),
+        group.join("plots")
+    );
+    assert_eq!(
+        plot::compare_out_dir(&[PathBuf::from("run")]),
+        PathBuf::from("./plots")
+    );
     let file = plot::plot_compare(&runs, "total", None, &PlotOptions::default()).expect("compare");
     assert_eq!(file, group.join("plots/compare.png"));
     assert_eq!(png_size(&std::fs::read(&file).expect("read")), (1000, 600));

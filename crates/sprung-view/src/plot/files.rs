@@ -90,9 +90,20 @@ pub fn plot_run(
 }
 
 /// The folder a comparison of `runs` goes to by default: `plots/` in the
-/// deepest folder that holds them all (as the paths are written).
+/// deepest folder that holds them all (as the paths are written), and
+/// not in a run itself: a single run's comparison goes to `plots/` beside
+/// it, not among its own plots.
 pub fn compare_out_dir(runs: &[PathBuf]) -> PathBuf {
-    common_ancestor(runs).join("plots")
+    let common = common_ancestor(runs);
+    let holding = if runs.iter().any(|r| run_dir(r) == common) {
+        match common.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+            _ => PathBuf::from("."),
+        }
+    } else {
+        common
+    };
+    holding.join("plots")
 }
 
 fn common_ancestor(runs: &[PathBuf]) -> PathBuf {
