@@ -290,6 +290,13 @@ fn off_errors_name_the_line() {
 
     let small = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
     let cases = [
+        // More vertices than the file has lines: the count is named at the
+        // header, not the face line read as a vertex.
+        (
+            with_line(small, 2, "1000000000000 1 0"),
+            "t.off:2: the header declares 1000000000000 vertices, a line each, \
+             but the file has 6 lines",
+        ),
         (
             with_line(small, 6, "3 0 1 3"),
             "t.off:6: face 0 vertex index 3 out of range (3 vertices)",

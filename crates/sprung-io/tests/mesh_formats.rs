@@ -400,6 +400,50 @@ fn stl_welds_minus_zero_with_zero_and_keeps_near_misses_apart() {
 }
 
 #[test]
+fn stl_facets_welded_into_a_line_or_a_point_are_left_out() {
+    // The icosahedron with a sliver facet collapsed onto one of its edges
+    // and one collapsed to a point, in ASCII and in binary: the same
+    // closed, welded surface as without them.
+    let ico = load_one("icosahedron_ascii.stl", None);
+    // Corners of the first facet: welded to the vertices it numbered, the
+    // slivers number nothing new wherever they come.
+    let first = ico.triangles[0];
+    let [a, b] = [ico.positions[first[0]], ico.positions[first[1]]];
+    let mut facets: Vec<[[f64; 3]; 3]> = ico
+        .triangles
+        .iter()
+        .map(|t| t.map(|v| ico.positions[v]))
+        .collect();
+    facets.insert(3, [a, b, a]);
+    facets.push([b, b, b]);
+    let ascii: String = std::iter::once("solid s\n".to_owned())
+        .chain(facets.iter().map(|corners| {
+            let vertices: String = corners
+                .iter()
+                .map(|p| format!("vertex {:?} {:?} {:?}\n", p[0], p[1], p[2]))
+                .collect();
+            format!("facet normal 0 0 0\nouter loop\n{vertices}endloop\nendfacet\n")
+        }))
+        .chain(std::iter::once("endsolid s\n".to_owned()))
+        .collect();
+    let mut binary = vec![b' '; 80];
+    binary.extend(u32::try_from(facets.len()).unwrap().to_le_bytes());
+    for corners in &facets {
+        binary.extend(binary_record(*corners));
+    }
+    for bytes in [ascii.as_bytes(), &binary] {
+        let meshes = parse_stl(bytes, Path::new("s.stl")).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(meshes[0].triangles, ico.triangles);
+        assert_eq!(meshes[0].positions.len(), 12);
+        assert!(closed_surface(&meshes[0], Path::new("s.stl")).is_ok());
+    }
+    // Nothing but slivers: no mesh.
+    let sliver = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 0\nendloop\nendfacet\nendsolid s\n";
+    let err = parse_stl(sliver.as_bytes(), Path::new("s.stl")).expect_err("no area");
+    assert!(err.to_string().contains("no triangle mesh"), "{err}");
+}
+
+#[test]
 fn select_object_by_name_or_the_only_one() {
     let path = mesh_path("UUSALKU.ASC");
     let meshes = load("UUSALKU.ASC");

@@ -79,6 +79,20 @@ pub fn parse_off(text: &str, file: &Path) -> Result<Vec<TriangleMesh>, MeshError
         unsigned(edges, "an edge count").map_err(|k| err(k, counts_line))?;
     }
 
+    // Each vertex takes a line of its own: more vertices than the file has
+    // lines is a count that is wrong, not a file cut short, and would
+    // otherwise read the faces as vertices.
+    let file_lines = text.lines().count();
+    if vertex_count > file_lines {
+        return Err(err(
+            syntax(format!(
+                "the header declares {vertex_count} vertices, a line each, \
+                 but the file has {file_lines} lines"
+            )),
+            counts_line,
+        ));
+    }
+
     let truncated = |found: usize, declared: usize, what: &str| {
         err(
             MeshErrorKind::Truncated(format!(

@@ -4,7 +4,11 @@
 //! arrives as a soup of unconnected triangles. The reader welds corners whose
 //! coordinates are exactly equal (`-0.0` and `0.0` count as equal), which
 //! restores the connectivity of files written from an indexed mesh. It does
-//! not merge corners that are merely close. Facet normals are ignored: the
+//! not merge corners that are merely close. A facet two of whose corners
+//! weld into one vertex has no area (a sliver collapsed to a line or a
+//! point, common in exported STL files) and is left out: its edges are an
+//! edge of its neighbours' taken there and back, so leaving it out keeps a
+//! closed surface closed. Facet normals are ignored: the
 //! orientation comes from the corner order (counter-clockwise seen from
 //! outside, as the format requires).
 //!
@@ -114,7 +118,9 @@ fn parse_binary(bytes: &[u8], count: usize, file: &Path) -> Result<Vec<TriangleM
             }
             *slot = welder.index(p);
         }
-        triangles.push(triangle);
+        if has_area(triangle) {
+            triangles.push(triangle);
+        }
     }
     if triangles.is_empty() {
         return Err(MeshError::new(file, MeshErrorKind::NoMesh));
@@ -124,6 +130,12 @@ fn parse_binary(bytes: &[u8], count: usize, file: &Path) -> Result<Vec<TriangleM
         positions: welder.positions,
         triangles,
     }])
+}
+
+/// Whether a facet's welded corners are three vertices: one with two
+/// corners welded into one is a line or a point, with no area.
+fn has_area([a, b, c]: [usize; 3]) -> bool {
+    a != b && b != c && a != c
 }
 
 /// Maps exactly equal coordinates to one vertex index.
@@ -247,7 +259,9 @@ fn parse_ascii(text: &str, file: &Path) -> Result<Vec<TriangleMesh>, MeshError> 
                     ));
                 };
                 if let Some(s) = solid.as_mut() {
-                    s.triangles.push([*a, *b, *c]);
+                    if has_area([*a, *b, *c]) {
+                        s.triangles.push([*a, *b, *c]);
+                    }
                 }
                 state = Expect::EndFacet;
             }
