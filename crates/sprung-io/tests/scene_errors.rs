@@ -57,6 +57,29 @@ fn the_base_scene_is_good() {
 }
 
 #[test]
+fn points_given_partly_in_2d_and_partly_in_3d_are_refused() {
+    assert_error(
+        &variant("[1.0, 0.0, 0.0], [2.0", "[1.0, 0.0], [2.0"),
+        7,
+        &["`particles` mixes 2D and 3D vectors: entry 0 has 3 numbers, entry 1 has 2"],
+    );
+    assert_error(
+        &variant(
+            "mass = 1.0",
+            "mass = 1.0\nvelocities = [[0.0, 1.0], [0.0, 1.0], [0.0, 1.0, 0.0]]",
+        ),
+        10,
+        &["`velocities` mixes 2D and 3D vectors: entry 0 has 2 numbers, entry 2 has 3"],
+    );
+    // All in 2D, or all in 3D: accepted.
+    let flat = variant(
+        "[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]",
+        "[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]",
+    );
+    assert!(parse_scene(&flat, Path::new("flat.toml")).is_ok());
+}
+
+#[test]
 fn unknown_key() {
     assert_error(
         &format!("{GOOD}colour = \"red\"\n"),

@@ -80,6 +80,7 @@ pub(crate) fn body_data(
         }
         (Some(v), None) => data = data.with_velocity(vector("velocity", v)?),
         (None, Some(list)) => {
+            same_dimension("velocities", list)?;
             data.velocity = list
                 .iter()
                 .map(|v| vector("velocities", v))
@@ -301,11 +302,31 @@ fn gas_of(table: &GasTable) -> Result<Gas, KeyError> {
     Ok(gas)
 }
 
+/// Refuse a list of vectors (`key`) that mixes 2-number (x, y) and
+/// 3-number (x, y, z) ones: a body is given in 2D or in 3D, and a point
+/// missing its z among 3D ones is more likely a slip than a z of zero.
+fn same_dimension(key: &'static str, vectors: &[Vec<f64>]) -> Result<(), KeyError> {
+    let Some(first) = vectors.first() else {
+        return Ok(());
+    };
+    match vectors.iter().position(|v| v.len() != first.len()) {
+        Some(k) if matches!((first.len(), vectors[k].len()), (2, 3) | (3, 2)) => Err((
+            key,
+            format!(
+                "`{key}` mixes 2D and 3D vectors: entry 0 has {} numbers, entry {k} has {}; \
+                 give every entry as (x, y) or every one as (x, y, z)",
+                first.len(),
+                vectors[k].len()
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
 fn explicit(table: &BodyTable) -> Result<BodyData, KeyError> {
-    let positions = table
-        .particles
-        .as_deref()
-        .unwrap_or_default()
+    let points = table.particles.as_deref().unwrap_or_default();
+    same_dimension("particles", points)?;
+    let positions = points
         .iter()
         .map(|p| vector("particles", p))
         .collect::<Result<Vec<_>, _>>()?;
