@@ -234,7 +234,7 @@ fn rods_warning(scene: &Scene) -> String {
         .first_unconverged
         .unwrap_or((scene.world.steps(), f64::NAN));
     format!(
-        "step {step} (t = {:.6} s): after constraint_iterations = {} sweeps a rod is still off its length by {error:.3e} (relative), above constraint_tolerance = {:.1e}; rods between very unequal masses converge slowly (raise `constraint_iterations`, lower `dt`, or even out the masses), and rods whose lengths cannot all hold at once (a loop of rods, rods between pinned particles or rigid bodies) never converge: check the lengths (warned once, counted at the end)",
+        "step {step} (t = {:.6} s): after constraint_iterations = {} sweeps a rod is still off its length by {error:.3e} (relative), above constraint_tolerance = {:.1e}; rods between very unequal masses converge slowly (raise `constraint_iterations`, lower `dt`, or even out the masses), and rods whose lengths cannot all hold at once (rods between pinned particles or rigid bodies, which the check of the lengths at load does not cover) never converge: check the lengths (warned once, counted at the end)",
         scene.world.time(),
         settings.iterations,
         settings.tolerance

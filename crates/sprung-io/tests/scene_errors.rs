@@ -634,6 +634,16 @@ fn bad_rods() {
         10,
         &["`rod_lengths` has 1 entries", "0 rods"],
     );
+    // Lengths that cannot all hold, on the line of the lengths: 0-1 and
+    // 1-2 at 1 m each cannot close a 3 m rod 0-2.
+    assert_error(
+        &format!("{GOOD}rods = [[0, 1], [1, 2], [0, 2]]\nrod_lengths = [1.0, 1.0, 3.0]\n"),
+        11,
+        &[
+            "`rods`[2] (3 m) is longer than the path of `rods` [0, 1]",
+            "(2 m together)",
+        ],
+    );
 }
 
 /// Muscles: a spring index out of range, `|amplitude| >= 1`, a period that

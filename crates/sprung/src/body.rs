@@ -11,6 +11,14 @@ use crate::gas::Gas;
 use crate::surface;
 use crate::{Real, Vec3};
 
+/// Rods agree to a billionth of their length (the tolerance the constrain
+/// stage converges to by default).
+const ROD_SLACK: Real = 1e-9;
+
+/// Particles the search for paths of rods shorter than a rod may reach,
+/// over all of a body's rods: past it, the remaining rods are not checked.
+pub const ROD_SEARCH_LIMIT: usize = 10_000_000;
+
 /// One spring of a [`BodyData`], with particle indices local to the body.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpringData {
@@ -561,25 +569,25 @@ impl BodyData {
         self.validate_rod_lengths()
     }
 
-    /// Refuse rods whose lengths cannot all hold at once, where that shows
-    /// in two or three of them: two on the same two particles at different
-    /// lengths, or three on a triangle of particles, one longer than the
-    /// other two together (the constrain stage would pull forever and pump
-    /// energy in). Longer loops of rods are not checked. The triangles are
-    /// listed from each rod's end with fewer rods, so a particle with many
-    /// rods costs no more than the rods it has.
+    /// Refuse rods whose lengths cannot all hold at once: two on the same
+    /// two particles at different lengths, or a rod longer than a path of
+    /// other rods joining its two ends (they would have to stretch; the
+    /// constrain stage would pull forever and pump energy in). Three rods
+    /// on a triangle, one longer than the other two together, are the
+    /// commonest case. Each rod's ends are joined by the shortest path of
+    /// the others shorter than it (Dijkstra's search, given up at the
+    /// rod's length, so a rod among longer ones costs no more than its
+    /// neighbours); past [`ROD_SEARCH_LIMIT`] particles reached in all, the
+    /// remaining rods are not checked.
     fn validate_rod_lengths(&self) -> Result<(), BuildError> {
-        // Rods agree to a billionth of their length (the tolerance the
-        // constrain stage converges to by default).
-        const SLACK: Real = 1e-9;
         let mut rod_of: HashMap<(usize, usize), usize> = HashMap::with_capacity(self.rods.len());
-        let mut ends: HashMap<usize, Vec<usize>> = HashMap::new();
+        let mut ends: HashMap<usize, Vec<(usize, usize)>> = HashMap::new();
         for (rod, r) in self.rods.iter().enumerate() {
             let key = (r.first.min(r.second), r.first.max(r.second));
             if let Some(&other) = rod_of.get(&key) {
                 let (length, other_length) =
                     (self.rod_length(r), self.rod_length(&self.rods[other]));
-                if (length - other_length).abs() > SLACK * length.max(other_length) {
+                if (length - other_length).abs() > ROD_SLACK * length.max(other_length) {
                     return Err(BuildError::ConflictingRods {
                         rod,
                         length,
@@ -590,45 +598,107 @@ impl BodyData {
                 continue;
             }
             rod_of.insert(key, rod);
-            ends.entry(key.0).or_default().push(key.1);
-            ends.entry(key.1).or_default().push(key.0);
+            ends.entry(key.0).or_default().push((key.1, rod));
+            ends.entry(key.1).or_default().push((key.0, rod));
         }
-        let rod_between = |a: usize, b: usize| rod_of.get(&(a.min(b), a.max(b))).copied();
+        let mut budget = ROD_SEARCH_LIMIT;
         for (rod, r) in self.rods.iter().enumerate() {
-            let (a, b) = (r.first, r.second);
-            if rod_between(a, b) != Some(rod) {
+            let key = (r.first.min(r.second), r.first.max(r.second));
+            if rod_of.get(&key) != Some(&rod) {
                 continue;
             }
-            let (near, far) = if ends[&a].len() <= ends[&b].len() {
-                (a, b)
-            } else {
-                (b, a)
+            let length = self.rod_length(r);
+            let Some((path, together)) =
+                self.shorter_path(&ends, rod, r.first, r.second, length, &mut budget)
+            else {
+                if budget == 0 {
+                    break;
+                }
+                continue;
             };
-            // Each triangle once: from its rod opposite its highest particle.
-            for &third in ends[&near].iter().filter(|&&c| c > a.max(b)) {
-                // `third` is among `near`'s ends, so that rod is there too.
-                let (Some(side), Some(side_near)) =
-                    (rod_between(far, third), rod_between(near, third))
-                else {
+            return Err(BuildError::RodLoop {
+                rod,
+                length,
+                path,
+                together,
+            });
+        }
+        Ok(())
+    }
+
+    /// The rods (in order from `from` to `to`) of the shortest path between
+    /// them through rods other than `rod`, and its length (m), if it is
+    /// shorter than `length` (m) by more than [`ROD_SLACK`]. Each particle
+    /// reached takes one from `budget`; `None` as well when it runs out.
+    fn shorter_path(
+        &self,
+        ends: &HashMap<usize, Vec<(usize, usize)>>,
+        rod: usize,
+        from: usize,
+        to: usize,
+        length: Real,
+        budget: &mut usize,
+    ) -> Option<(Vec<usize>, Real)> {
+        use std::cmp::Reverse;
+        use std::collections::BinaryHeap;
+        /// A distance (m) ordered for the heap: lengths are finite and
+        /// positive (checked before).
+        struct Distance(Real);
+        impl PartialEq for Distance {
+            fn eq(&self, other: &Self) -> bool {
+                self.cmp(other).is_eq()
+            }
+        }
+        impl Eq for Distance {}
+        impl PartialOrd for Distance {
+            fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+                Some(self.cmp(other))
+            }
+        }
+        impl Ord for Distance {
+            fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+                self.0.total_cmp(&other.0)
+            }
+        }
+        // Paths at least this long can hold with the rod.
+        let bound = length / (1.0 + ROD_SLACK);
+        // Per particle reached: its distance and the rod it was reached by.
+        let mut reached: HashMap<usize, (Real, usize)> = HashMap::new();
+        let mut heap = BinaryHeap::new();
+        reached.insert(from, (0.0, rod));
+        heap.push(Reverse((Distance(0.0), from)));
+        while let Some(Reverse((Distance(distance), particle))) = heap.pop() {
+            if distance >= bound || *budget == 0 {
+                return None;
+            }
+            if reached.get(&particle).is_some_and(|&(d, _)| d < distance) {
+                continue;
+            }
+            *budget -= 1;
+            if particle == to {
+                let mut path = Vec::new();
+                let mut at = to;
+                while at != from {
+                    let via = reached[&at].1;
+                    path.push(via);
+                    let r = &self.rods[via];
+                    at = if r.first == at { r.second } else { r.first };
+                }
+                path.reverse();
+                return Some((path, distance));
+            }
+            for &(next, via) in ends.get(&particle).into_iter().flatten() {
+                if via == rod {
                     continue;
-                };
-                let mut triangle =
-                    [rod, side, side_near].map(|s| (self.rod_length(&self.rods[s]), s));
-                triangle.sort_by(|x, y| y.0.total_cmp(&x.0));
-                let [(length, longest), (l1, s1), (l2, s2)] = triangle;
-                if length > (l1 + l2) * (1.0 + SLACK) {
-                    let mut sides = [s1, s2];
-                    sides.sort_unstable();
-                    return Err(BuildError::RodTriangle {
-                        rod: longest,
-                        length,
-                        sides,
-                        together: l1 + l2,
-                    });
+                }
+                let through = distance + self.rod_length(&self.rods[via]);
+                if through < bound && reached.get(&next).is_none_or(|&(d, _)| through < d) {
+                    reached.insert(next, (through, via));
+                    heap.push(Reverse((Distance(through), next)));
                 }
             }
         }
-        Ok(())
+        None
     }
 
     fn validate_muscles(&self) -> Result<(), BuildError> {

@@ -91,16 +91,18 @@ pub enum BuildError {
         /// Its length (m).
         other_length: Real,
     },
-    /// Three rods on a triangle of particles, one longer than the other
-    /// two together: the three lengths cannot hold at once.
-    #[error("`rods`[{rod}] ({length} m) is longer than `rods`[{}] and `rods`[{}] together ({together} m), which join its ends through a third particle: the three lengths cannot hold at once", sides[0], sides[1])]
-    RodTriangle {
-        /// The longest rod's index.
+    /// A rod longer than a path of other rods joining its two ends (three
+    /// rods on a triangle, one longer than the other two together, or a
+    /// longer loop): their lengths cannot all hold at once.
+    #[error("`rods`[{rod}] ({length} m) is longer than the path of `rods` {path:?} joining its ends ({together} m together): their lengths cannot all hold at once")]
+    RodLoop {
+        /// The rod's index.
         rod: usize,
         /// Its length (m).
         length: Real,
-        /// The other two rods' indices.
-        sides: [usize; 2],
+        /// The rods of the path, from the rod's first particle to its
+        /// second.
+        path: Vec<usize>,
         /// Their lengths added (m).
         together: Real,
     },

@@ -206,10 +206,18 @@ fn rods_left_off_their_lengths_are_counted_not_hidden() {
     assert!(world.last_rod_report().sweeps == 1);
 }
 
-/// A body of three particles at the corners of a unit right triangle with
-/// rods of the given `(first, second, length)`.
-fn triangle_of_rods(rods: &[(usize, usize, Real)]) -> BodyData {
-    let corners = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
+/// A body of as many particles as the rods name (placed in a zigzag; the
+/// rods' lengths are given) with rods of the given `(first, second,
+/// length)`.
+fn body_of_rods(rods: &[(usize, usize, Real)]) -> BodyData {
+    let particles = rods
+        .iter()
+        .map(|&(a, b, _)| a.max(b) + 1)
+        .max()
+        .unwrap_or(0);
+    let corners = (0..particles)
+        .map(|i| Vec3::new(i as Real, (i % 2) as Real, 0.0))
+        .collect();
     let mut body = BodyData::from_positions(corners);
     body.rods = rods
         .iter()
@@ -225,28 +233,22 @@ fn triangle_of_rods(rods: &[(usize, usize, Real)]) -> BodyData {
 #[test]
 fn rod_lengths_that_cannot_all_hold_are_refused() {
     let add = |rods: &[(usize, usize, Real)]| {
-        World::new(IntegratorKind::SymplecticEuler).add_body("rods", triangle_of_rods(rods))
+        World::new(IntegratorKind::SymplecticEuler).add_body("rods", body_of_rods(rods))
     };
     // Claim: three rods on a triangle hold together exactly when no one is
     // longer than the other two together (the triangle inequality); the
     // helper's 1, 1, 5 m pumped energy in until the run was stopped.
     let error = add(&[(0, 1, 1.0), (1, 2, 1.0), (0, 2, 5.0)]).expect_err("5 > 1 + 1");
     assert!(
-        matches!(error, BuildError::RodTriangle { rod: 2, sides: [0, 1], length, together }
-            if length == 5.0 && together == 2.0),
+        matches!(&error, BuildError::RodLoop { rod: 2, path, length, together }
+            if path == &[0, 1] && *length == 5.0 && *together == 2.0),
         "{error}"
     );
-    // The longest found whichever order the rods come in.
+    // The longest found whichever order the rods come in; the path runs
+    // from its first particle (2) to its second (0).
     let error = add(&[(2, 0, 5.0), (2, 1, 1.0), (1, 0, 1.0)]).expect_err("5 > 1 + 1");
     assert!(
-        matches!(
-            error,
-            BuildError::RodTriangle {
-                rod: 0,
-                sides: [1, 2],
-                ..
-            }
-        ),
+        matches!(&error, BuildError::RodLoop { rod: 0, path, .. } if path == &[1, 2]),
         "{error}"
     );
     // A flat triangle (2 = 1 + 1: the three particles in a line) and one
@@ -255,6 +257,33 @@ fn rod_lengths_that_cannot_all_hold_are_refused() {
     assert!(add(&[(0, 1, 1.0), (1, 2, 1.0), (0, 2, 1.99)]).is_ok());
     // One rod just over (2.001 m) cannot.
     assert!(add(&[(0, 1, 1.0), (1, 2, 1.0), (0, 2, 2.001)]).is_err());
+    // Longer loops: the same claim for any cycle (a polygon closes only if
+    // no side is longer than the others together). A square of 1 m rods
+    // whose fourth side is 3.5 m; the shortest of two paths is named.
+    let error = add(&[
+        (0, 1, 1.0),
+        (1, 2, 1.0),
+        (2, 3, 1.0),
+        (0, 3, 3.5),
+        (0, 4, 2.0),
+        (4, 3, 2.0),
+    ])
+    .expect_err("3.5 > 1 + 1 + 1");
+    assert!(
+        matches!(&error, BuildError::RodLoop { rod: 3, path, together, .. }
+            if path == &[0, 1, 2] && *together == 3.0),
+        "{error}"
+    );
+    // The same square with a fourth side of exactly 3 m (a flat loop) holds,
+    // and so does a ring of 100 short rods around one long one.
+    assert!(add(&[(0, 1, 1.0), (1, 2, 1.0), (2, 3, 1.0), (0, 3, 3.0)]).is_ok());
+    let mut ring: Vec<(usize, usize, Real)> = (0..100).map(|i| (i, i + 1, 0.01)).collect();
+    ring.push((0, 100, 0.99));
+    assert!(add(&ring).is_ok());
+    ring.last_mut().expect("the long rod").2 = 1.01;
+    assert!(
+        matches!(add(&ring), Err(BuildError::RodLoop { rod: 100, path, .. }) if path.len() == 100)
+    );
     // Two rods on one pair: the same length is one constraint twice; two
     // lengths are a contradiction.
     assert!(add(&[(0, 1, 1.0), (1, 0, 1.0)]).is_ok());

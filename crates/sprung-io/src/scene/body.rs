@@ -488,7 +488,7 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::RodIndexOutOfRange { .. }
         | BuildError::BadRodLength { .. }
         | BuildError::ConflictingRods { .. }
-        | BuildError::RodTriangle { .. }
+        | BuildError::RodLoop { .. }
         | BuildError::PinnedRod { .. } => "rods",
         BuildError::MuscleSpringOutOfRange { .. } | BuildError::BadMuscle { .. } => "muscles",
         BuildError::RigidTooSmall | BuildError::RigidPinned => "rigid",
@@ -513,7 +513,7 @@ pub(crate) fn key_in(error: &BuildError, table: &BodyTable) -> &'static str {
                 "rods"
             }
         }
-        BuildError::ConflictingRods { .. } | BuildError::RodTriangle { .. }
+        BuildError::ConflictingRods { .. } | BuildError::RodLoop { .. }
             if table.rod_lengths.is_some() =>
         {
             "rod_lengths"
