@@ -17,6 +17,11 @@ const PARTICLE_BYTES: u64 = 3 * 24 + 2 * 8 + 5 * 24;
 /// flag) and its share of the force schedule.
 const SPRING_BYTES: u64 = 4 + 4 + 3 * 8 + 1 + 8;
 
+/// Bytes per candidate contact pair (a particle and a triangle, or two
+/// edges: about 48 bytes) while the detect stage puts them in order: the
+/// pairs, each search chunk's copy and the buckets' copy.
+const PAIR_BYTES: u64 = 3 * 48;
+
 /// Check the scene at `path`: exit status 0 when it loads, 1 (with the
 /// error) when it does not.
 pub fn run(path: &Path) -> Result<(), CliError> {
@@ -41,7 +46,20 @@ pub fn run(path: &Path) -> Result<(), CliError> {
         world.muscles.list.len(),
         world.rigid.list.len(),
     );
-    println!("  memory while running: about {:.1} MB", bytes as f64 / 1e6);
+    let pairs = world
+        .contact_pairs_now(scene.dt)
+        .map_err(|e| CliError::Input(e.to_string()))?;
+    // A candidate pair and its copies while the pairs are put in order.
+    let pair_bytes = pairs as u64 * PAIR_BYTES;
+    println!(
+        "  memory while running: about {:.1} MB{}",
+        (bytes + pair_bytes) as f64 / 1e6,
+        if pairs > 0 {
+            format!(" ({pairs} candidate contact pairs at the start: about {:.1} MB of it; more where bodies press together)", pair_bytes as f64 / 1e6)
+        } else {
+            String::new()
+        }
+    );
     let file_bytes = std::fs::metadata(path).map_or(0, |m| m.len());
     println!(
         "  memory while loading: {:.1} MB at most (the file: {:.1} MB)",

@@ -125,6 +125,12 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         }
         None => None,
     };
+    // A contact thickness far beyond the particles' spacing is refused
+    // before anything is written (later steps are guarded by the engine).
+    scene
+        .world
+        .contact_pairs_now(scene.dt)
+        .map_err(|e| CliError::Input(e.to_string()))?;
     // Rows this run will record, at most (for the animation's budget).
     let records = (steps - scene.world.steps()) / every + 2;
     let mut outputs = Outputs::open(

@@ -233,3 +233,40 @@ fn loading_memory_is_a_small_multiple_of_the_file() {
         );
     }
 }
+
+#[test]
+fn a_contact_thickness_far_beyond_the_spacing_is_refused_before_the_run() {
+    // Two 60 × 60 cloths 10 cm apart with a 20 cm contact thickness: more
+    // candidate pairs than the engine's limit (it used to take gigabytes
+    // and abort). `check` and `run` refuse it with status 1, and `run`
+    // writes nothing; at 5 cm `check` counts the pairs and the run goes.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scene = |thickness: f64| {
+        format!(
+            "[sim]\ndt = 1e-4\nsteps = 2\n[contact]\nthickness = {thickness}\n\
+             [[body]]\nname = \"c\"\ncloth = {{ nx = 60, ny = 60, width = 1.0, height = 1.0 }}\n\
+             [[body]]\nname = \"d\"\ncloth = {{ nx = 60, ny = 60, width = 1.0, height = 1.0 }}\n\
+             translate = [0.0, 0.0, 0.1]\n"
+        )
+    };
+    write(dir.path(), "thick.toml", &scene(0.2));
+    write(dir.path(), "thin.toml", &scene(0.06));
+    for args in [
+        &["check", "thick.toml"][..],
+        &["run", "thick.toml", "--out", "o", "--quiet"],
+    ] {
+        let output = common::sprung(args, dir.path());
+        let stderr = text(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("candidate pairs") && stderr.contains("lower `[contact] thickness`"),
+            "{stderr}"
+        );
+    }
+    assert!(!dir.path().join("o").exists());
+    let output = common::sprung(&["check", "thin.toml"], dir.path());
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert!(text(&output.stdout).contains("candidate contact pairs at the start"));
+    let output = common::sprung(&["run", "thin.toml", "--out", "o", "--quiet"], dir.path());
+    assert!(output.status.success(), "{}", text(&output.stderr));
+}

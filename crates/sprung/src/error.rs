@@ -344,6 +344,20 @@ pub enum StepError {
         /// The time step given (s).
         dt: Real,
     },
+    /// The detect stage found more candidate contact pairs than
+    /// [`crate::contact::pair_limit`] allows: the contact thickness is many
+    /// times the spacing of the particles. Nothing moved in the step.
+    #[error("step {step} (t = {time:.6} s): contact between bodies found more than {limit} candidate pairs (the limit: {} per particle or surface element that can touch, {} at least): the contact thickness {thickness} m is too large for the spacing of the particles; lower `[contact] thickness`", crate::contact::PAIRS_PER_ELEMENT, crate::contact::MIN_PAIR_LIMIT)]
+    TooManyContacts {
+        /// Number of the step refused (1 = first step).
+        step: u64,
+        /// Simulated time at its start (s).
+        time: Real,
+        /// The most the scene may have.
+        limit: usize,
+        /// The contact thickness (m).
+        thickness: Real,
+    },
     /// The state became non-finite or ran away: the run must stop.
     #[error("simulation blew up at step {step} (t = {time:.6} s): particle {particle} ({body}) {reason}; {}", advice(*dt, *stable_dt))]
     BlowUp {

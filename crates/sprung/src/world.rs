@@ -431,7 +431,7 @@ impl World {
         }
         self.validate_settings()
             .map_err(StepError::InvalidSettings)?;
-        self.detect(dt);
+        self.detect(dt)?;
         let substeps = self.substeps(dt);
         let h = dt / Real::from(substeps);
         let mut report = StepReport::default();
@@ -578,14 +578,21 @@ impl World {
     }
 
     /// The detect stage: the candidate contact pairs of this step.
-    fn detect(&mut self, dt: Real) {
-        self.contacts.detect(
-            &self.bodies,
-            &self.springs,
-            &self.particles.position,
-            &self.particles.velocity,
-            dt,
-        );
+    fn detect(&mut self, dt: Real) -> Result<(), StepError> {
+        self.contacts
+            .detect(
+                &self.bodies,
+                &self.springs,
+                &self.particles.position,
+                &self.particles.velocity,
+                dt,
+            )
+            .map_err(|too_many| StepError::TooManyContacts {
+                step: self.steps + 1,
+                time: self.time,
+                limit: too_many.limit,
+                thickness: self.contacts.settings.thickness,
+            })
     }
 
     fn integrate(&mut self, dt: Real) -> Result<StepReport, StepError> {
@@ -900,6 +907,30 @@ impl World {
     /// Mass-weighted centroid of body `body` (m); `None` if there is no such body.
     pub fn centroid(&self, body: usize) -> Option<Vec3> {
         Some(measure::centroid(&self.particles, self.bodies.get(body)?))
+    }
+
+    /// The candidate contact pairs the detect stage finds at the current
+    /// state for a step of `dt` (s), on a copy of the contact state: the
+    /// world is left as it was. An error where the first step would be
+    /// refused for them ([`StepError::TooManyContacts`]), so that a run
+    /// can refuse a scene before it starts.
+    pub fn contact_pairs_now(&self, dt: Real) -> Result<usize, StepError> {
+        let mut contacts = self.contacts.clone();
+        contacts
+            .detect(
+                &self.bodies,
+                &self.springs,
+                &self.particles.position,
+                &self.particles.velocity,
+                dt,
+            )
+            .map_err(|too_many| StepError::TooManyContacts {
+                step: self.steps + 1,
+                time: self.time,
+                limit: too_many.limit,
+                thickness: contacts.settings.thickness,
+            })?;
+        Ok(contacts.pairs.len())
     }
 
     /// A stable time step for the explicit methods (s); see

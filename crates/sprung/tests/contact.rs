@@ -335,3 +335,39 @@ fn a_cloth_lands_on_a_body_of_two_huge_triangles_anywhere_on_it() {
         .fold(0.0, Real::max);
     assert!(speed < 0.05, "still moving at {speed} m/s");
 }
+
+#[test]
+fn a_thickness_far_beyond_the_spacing_is_refused_before_anything_moves() {
+    // Two 60 × 60 cloths of 1 m (spacing 1.7 cm) 10 cm apart. Claim: with a
+    // thickness of 20 cm every particle is within reach of thousands of
+    // the other cloth's triangles and edges, more than the limit of 64
+    // pairs per element (some 2.7 million here), so the first step is
+    // refused, the state untouched; at 5 cm the cloths run.
+    let world_with = |thickness: Real| {
+        let mut world = World::new(IntegratorKind::SymplecticEuler);
+        world.contacts.settings.thickness = thickness;
+        let cloth = || build::cloth(60, 60, 1.0, 1.0, ClothSprings::default()).expect("cloth");
+        world.add_body("c", cloth()).expect("first cloth");
+        let lifted = cloth().placed(1.0, Vec3::ZERO, Vec3::new(0.0, 0.0, 0.1));
+        world.add_body("d", lifted).expect("second cloth");
+        world
+    };
+    let mut thick = world_with(0.2);
+    let before = thick.particles.position.clone();
+    let limit = sprung::contact::pair_limit(2 * (3600 + 3481 * 2 + 10_561));
+    for error in [
+        thick.contact_pairs_now(1e-4).expect_err("dry run"),
+        thick.step(1e-4).expect_err("first step"),
+    ] {
+        assert!(
+            matches!(error, sprung::StepError::TooManyContacts { step: 1, limit: l, .. } if l == limit),
+            "{error}"
+        );
+        assert!(error.to_string().contains("lower `[contact] thickness`"));
+    }
+    assert_eq!(thick.particles.position, before);
+    assert_eq!(thick.steps(), 0);
+    let mut thin = world_with(0.05);
+    thin.contact_pairs_now(1e-4).expect("within the limit");
+    thin.step(1e-4).expect("a step");
+}

@@ -11,6 +11,7 @@ use crate::parallel;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Marks a particle of no colliding body.
 const NONE: u32 = u32::MAX;
@@ -495,6 +496,55 @@ struct Search<'a> {
     position: &'a [Vec3],
     reach: Real,
     links: &'a Links,
+    budget: &'a Budget,
+}
+
+/// The candidate pairs a search may find ([`pair_limit`]), counted as the
+/// threads find them: a search that finds more stops, whatever the
+/// number of threads (a count above the limit means the pairs are more).
+struct Budget {
+    found: AtomicUsize,
+    limit: usize,
+}
+
+impl Budget {
+    /// Count `more` pairs found; whether the limit is passed.
+    fn spend(&self, more: usize) -> bool {
+        self.found.fetch_add(more, Ordering::Relaxed) + more > self.limit
+    }
+
+    fn exceeded(&self) -> bool {
+        self.found.load(Ordering::Relaxed) > self.limit
+    }
+}
+
+/// Candidate pairs a search may find per element that looks for them or
+/// is looked for (a querying particle, a triangle, a segment, an edge, a
+/// loose particle), and at least [`MIN_PAIR_LIMIT`] in all: a pile of gas
+/// balls has well under one, a cloth lying in folds about ten. A contact
+/// thickness many times the spacing of the particles finds hundreds each,
+/// and the memory of the pairs would grow with its square.
+pub const PAIRS_PER_ELEMENT: usize = 64;
+
+/// The fewest candidate pairs a search may find, however few its elements.
+pub const MIN_PAIR_LIMIT: usize = 2_000_000;
+
+/// Pairs found per chunk of the search between two counts in the budget.
+const BUDGET_STRIDE: usize = 1024;
+
+/// The most candidate pairs a search among `elements` may find.
+pub fn pair_limit(elements: usize) -> usize {
+    elements
+        .saturating_mul(PAIRS_PER_ELEMENT)
+        .max(MIN_PAIR_LIMIT)
+}
+
+/// A search that found more candidate pairs than [`pair_limit`] allows
+/// (how many more depends on when the threads noticed: not kept).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TooManyPairs {
+    /// The limit.
+    pub limit: usize,
 }
 
 impl Search<'_> {
@@ -553,7 +603,16 @@ impl Search<'_> {
             parallel::piece_size(list.len(), QUERY_CHUNK),
             chunks,
             |range, found| {
+                let mut counted = 0;
                 for e in range {
+                    if found.len() - counted >= BUDGET_STRIDE {
+                        if self.budget.spend(found.len() - counted) {
+                            return;
+                        }
+                        counted = found.len();
+                    } else if self.budget.exceeded() {
+                        return;
+                    }
                     let (element, element_body) = list[e];
                     let (low, high) = built.boxes[e];
                     let visit = |q: u32| {
@@ -574,8 +633,13 @@ impl Search<'_> {
                         built.grid.query(low, high, visit);
                     }
                 }
+                self.budget.spend(found.len() - counted);
             },
         );
+        if self.budget.exceeded() {
+            out.clear();
+            return;
+        }
         by_particle(
             chunks,
             particle_of,
@@ -613,7 +677,16 @@ impl Search<'_> {
             parallel::piece_size(count, QUERY_CHUNK),
             chunks,
             |range, found| {
+                let mut counted = 0;
                 for first in range {
+                    if found.len() - counted >= BUDGET_STRIDE {
+                        if self.budget.spend(found.len() - counted) {
+                            return;
+                        }
+                        counted = found.len();
+                    } else if self.budget.exceeded() {
+                        return;
+                    }
                     if !asks(list[first].1) {
                         continue;
                     }
@@ -641,9 +714,12 @@ impl Search<'_> {
                         }
                     });
                 }
+                self.budget.spend(found.len() - counted);
             },
         );
-        out.extend(chunks.iter().flatten().copied());
+        if !self.budget.exceeded() {
+            out.extend(chunks.iter().flatten().copied());
+        }
     }
 }
 
@@ -679,7 +755,7 @@ impl Contacts {
         position: &[Vec3],
         velocity: &[Vec3],
         dt: Real,
-    ) {
+    ) -> Result<(), TooManyPairs> {
         let colliding = bodies.iter().filter(|b| b.contact.collide).count();
         let self_colliding = bodies
             .iter()
@@ -688,7 +764,7 @@ impl Contacts {
             self.pairs.clear();
             self.scratch.searched_at.clear();
             self.scratch.last_velocity.clear();
-            return;
+            return Ok(());
         }
         // One common velocity for every colliding particle.
         let speed = colliding_runs(bodies)
@@ -716,7 +792,7 @@ impl Contacts {
             .still_covers(bodies, position, closing, &self.settings);
         if let Some(allowance) = covered {
             self.pairs.allowance = bending.map_or(Real::INFINITY, |b| allowance + b);
-            return;
+            return Ok(());
         }
         self.pairs.clear();
         self.pairs.allowance = bending.map_or(Real::INFINITY, |b| closing + b);
@@ -737,11 +813,21 @@ impl Contacts {
         let open = |b: &Body| b.contact.collide && !b.closed && !b.faces.is_empty();
         scratch.collect(bodies, position, reach, bodies.iter().any(open));
         links.build(bodies, springs, position.len(), settings.thickness);
+        let elements = scratch.querying.len()
+            + scratch.triangles.len()
+            + scratch.segments.len()
+            + scratch.edges.len()
+            + scratch.loose.len();
+        let budget = Budget {
+            found: AtomicUsize::new(0),
+            limit: pair_limit(elements),
+        };
         let search = Search {
             bodies,
             position,
             reach,
             links,
+            budget: &budget,
         };
         let x = |i: u32| position[i as usize];
         search.particles_against(
@@ -846,8 +932,17 @@ impl Contacts {
                 })
             },
         );
+        if budget.exceeded() {
+            // Nothing of the search is kept: the next step searches again.
+            pairs.clear();
+            scratch.searched_at.clear();
+            return Err(TooManyPairs {
+                limit: budget.limit,
+            });
+        }
         // Clearances lie within the margin.
         pairs.bucket(margin / CLEARANCE_BUCKETS as Real, &mut found.spare);
+        Ok(())
     }
 }
 

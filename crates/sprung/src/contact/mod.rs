@@ -59,6 +59,14 @@
 //! pairs is kept in buckets of clearance, nearest first, so a measure
 //! does not even read them.
 //!
+//! **A bound on the pairs.** A search may find at most
+//! [`PAIRS_PER_ELEMENT`] candidate pairs per element that takes part
+//! (querying particle, triangle, segment, edge or loose particle), and at
+//! least [`MIN_PAIR_LIMIT`] in all ([`pair_limit`]). A thickness many
+//! times the spacing of the particles would find hundreds per element,
+//! their memory growing with its square; the step is refused instead
+//! ([`crate::StepError::TooManyContacts`]), before anything moves.
+//!
 //! **Sides.** A closed surface pushes along its outward normal, so a
 //! particle that got inside is pushed out. An open surface (cloth) pushes
 //! towards the side the particle was on when the pair was found, at the
@@ -77,6 +85,7 @@ mod links;
 mod pairs;
 mod state;
 
+pub use detect::{pair_limit, TooManyPairs, MIN_PAIR_LIMIT, PAIRS_PER_ELEMENT};
 pub use force::BodyContacts;
 pub use pairs::{ContactPairs, EdgeEdge, PointPoint, PointSegment, PointTriangle};
 
