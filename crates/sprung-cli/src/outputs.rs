@@ -12,6 +12,9 @@ use crate::checkpoint::{self, Resumed};
 use crate::run::CliError;
 use crate::RunOptions;
 
+/// The glTF animation's file in a run's folder.
+const ANIMATION: &str = "animation.glb";
+
 /// The most bytes a glTF animation may gather in memory (2 GB).
 pub const ANIMATION_BUDGET: u64 = 2_000_000_000;
 
@@ -45,12 +48,10 @@ impl<'a> Outputs<'a> {
         records: u64,
     ) -> Result<Self, CliError> {
         let format = options.format;
+        if resumed.is_some() {
+            check_resumed_format(out, format)?;
+        }
         if format == Some(OutputFormat::Gltf) {
-            if resumed.is_some() {
-                return Err(CliError::Input(
-                    "--format gltf keeps the whole run in one animation.glb, which a resumed run cannot add to (resume with --format vtu, vtk or obj)".into(),
-                ));
-            }
             let bytes = Animation::estimated_bytes(world, records);
             if bytes > ANIMATION_BUDGET {
                 return Err(CliError::Input(format!(
@@ -62,6 +63,11 @@ impl<'a> Outputs<'a> {
             }
         }
         if let Some(state) = &options.save_state {
+            if format == Some(OutputFormat::Gltf) {
+                return Err(CliError::Input(format!(
+                    "--save-state with --format gltf: the run keeps its frames in one {ANIMATION}, which a resumed run cannot add to, so its state could not be resumed (use --format vtu, vtk or obj)"
+                )));
+            }
             check_state_path(state, out)?;
         }
         let csv = out.join("diagnostics.csv");
@@ -70,26 +76,13 @@ impl<'a> Outputs<'a> {
             return Err(no_diagnostics(out));
         }
         let frames_dir = out.join("frames");
-        // The series file lists every frame from the first: a resumed run
-        // adds to the frames of the run it goes on with, in their format.
-        if let (Some(r), Some(OutputFormat::Frames(frame_format))) = (resumed, format) {
-            let last = export::frame_path(&frames_dir, r.rows.saturating_sub(1), frame_format);
-            if r.rows > 0 && !last.is_file() {
-                return Err(CliError::Input(format!(
-                    "--resume --format {}: the run in {} has no {}, so its frames are in another format or none (resume with the --format it was started with, or with none)",
-                    frame_format.extension(),
-                    out.display(),
-                    last.display()
-                )));
-            }
-        }
         let first_frame = resumed.map_or(0, |r| r.rows);
-        let frame_files = matches!(format, Some(OutputFormat::Frames(_)));
-        prepare_output(
-            out,
-            frame_files.then_some(frames_dir.as_path()),
-            first_frame,
-        )?;
+        prepare_output(out, &frames_dir, first_frame)?;
+        if matches!(format, Some(OutputFormat::Frames(_))) {
+            std::fs::create_dir_all(&frames_dir).map_err(|e| {
+                CliError::Io(format!("cannot create {}: {e}", frames_dir.display()))
+            })?;
+        }
         let diagnostics = match resumed {
             None => Diagnostics::create(&csv, world, &options.probe).map_err(|e| io(out, e))?,
             Some(r) => Diagnostics::resume(&csv, world, &options.probe, r.rows)
@@ -156,7 +149,7 @@ impl<'a> Outputs<'a> {
     pub fn finish(self, world: &World, state_rows: usize, save: bool) -> Result<String, CliError> {
         self.series(world)?;
         if let Some(animation) = &self.animation {
-            let path = self.out.join("animation.glb");
+            let path = self.out.join(ANIMATION);
             animation.write(&path).map_err(|e| io(&path, e))?;
         }
         let rows = self.diagnostics.rows();
@@ -176,7 +169,7 @@ impl<'a> Outputs<'a> {
             Some(OutputFormat::Gltf) => place.push_str(&format!(
                 ", an animation of {} frames in {}",
                 self.frames,
-                self.out.join("animation.glb").display()
+                self.out.join(ANIMATION).display()
             )),
             _ => {}
         }
@@ -277,7 +270,7 @@ fn check_state_path(state: &Path, out: &Path) -> Result<(), CliError> {
     if out.starts_with(&state) {
         return refuse(format!("is the run's folder {} or holds it", out.display()));
     }
-    let own = DIAGNOSTICS_TABLES.iter().chain(&["animation.glb"]);
+    let own = DIAGNOSTICS_TABLES.iter().chain(&[ANIMATION]);
     if own.clone().any(|name| state == out.join(name)) || state.starts_with(out.join("frames")) {
         return refuse(format!(
             "is one of the run's own outputs in {} (give another file)",
@@ -294,27 +287,93 @@ fn check_state_path(state: &Path, out: &Path) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Create the output folder and, for frames, `frames/` without frames
-/// numbered from `first_frame` on (earlier frames of this run's format
-/// would mix into the new sequence; a resumed run keeps those before).
-fn prepare_output(out: &Path, frames: Option<&Path>, first_frame: usize) -> Result<(), CliError> {
+/// The format the run in `out` recorded its frames in, from its files:
+/// its first frame (frame 0 goes with the first row) or its animation.
+fn started_format(out: &Path) -> Option<OutputFormat> {
+    if out.join(ANIMATION).is_file() {
+        return Some(OutputFormat::Gltf);
+    }
+    let frames = out.join("frames");
+    export::FrameFormat::ALL
+        .into_iter()
+        .find(|&f| export::frame_path(&frames, 0, f).is_file())
+        .map(OutputFormat::Frames)
+}
+
+/// `--format`, as a user gives it.
+fn format_flag(format: Option<OutputFormat>) -> String {
+    match format {
+        None => "no --format".into(),
+        Some(OutputFormat::Gltf) => "--format gltf".into(),
+        Some(OutputFormat::Frames(f)) => format!("--format {}", f.extension()),
+    }
+}
+
+/// Refuse a resume into `out` with a `format` other than the one the run
+/// was started with: its frames (or their absence) must go on as they
+/// began, frame n with row n; a glTF animation cannot be added to.
+fn check_resumed_format(out: &Path, format: Option<OutputFormat>) -> Result<(), CliError> {
+    let started = started_format(out);
+    if started == Some(OutputFormat::Gltf) || format == Some(OutputFormat::Gltf) {
+        return Err(CliError::Input(format!(
+            "--resume: a run recorded as glTF keeps the whole run in one {ANIMATION}, which a resumed run cannot add to ({} was {}): run it again from the start, with --format vtu, vtk or obj to resume it later",
+            out.display(),
+            if started == Some(OutputFormat::Gltf) { "recorded so" } else { "not" }
+        )));
+    }
+    if started != format {
+        return Err(CliError::Input(format!(
+            "--resume with {}: the run in {} was started with {} (resume with that, so that its frames go on with its rows)",
+            format_flag(format),
+            out.display(),
+            format_flag(started)
+        )));
+    }
+    Ok(())
+}
+
+/// Create the output folder, and clear it of the frames from `first_frame`
+/// on of every format and, for a run from the start, of the series files
+/// and the glTF animation: what an earlier run left there would mix with
+/// this run's outputs or contradict them. A resumed run (started in its
+/// own format, `check_resumed_format`) keeps its frames before
+/// `first_frame` and its series file, which it writes again.
+fn prepare_output(out: &Path, frames: &Path, first_frame: usize) -> Result<(), CliError> {
     let fail = |e: std::io::Error, dir: &Path| {
         CliError::Io(format!("cannot create {}: {e}", dir.display()))
     };
     std::fs::create_dir_all(out).map_err(|e| fail(e, out))?;
-    if let Some(dir) = frames {
-        std::fs::create_dir_all(dir).map_err(|e| fail(e, dir))?;
-        let stale = std::fs::read_dir(dir).map_err(|e| fail(e, dir))?;
-        for entry in stale.flatten() {
-            let name = entry.file_name();
-            let name = name.to_string_lossy();
-            let index = name
-                .strip_prefix("frame_")
-                .map(|rest| rest.split('.').next().unwrap_or_default().parse::<usize>());
-            // Kept: frames of a resumed run's earlier part.
-            if index.is_some_and(|n| n.map_or(true, |n| n >= first_frame)) {
-                std::fs::remove_file(entry.path()).map_err(|e| fail(e, dir))?;
+    let remove = |path: &Path| match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(CliError::Io(format!(
+            "cannot remove {} (left by an earlier run): {e}",
+            path.display()
+        ))),
+        _ => Ok(()),
+    };
+    if !frames.is_dir() && first_frame > 0 {
+        return Ok(());
+    }
+    if first_frame == 0 {
+        remove(&out.join(ANIMATION))?;
+        for format in export::FrameFormat::ALL {
+            if let Some(series) = export::series_path(frames, format) {
+                remove(&series)?;
             }
+        }
+    }
+    if !frames.is_dir() {
+        return Ok(());
+    }
+    let stale = std::fs::read_dir(frames).map_err(|e| fail(e, frames))?;
+    for entry in stale.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        let index = name
+            .strip_prefix("frame_")
+            .map(|rest| rest.split('.').next().unwrap_or_default().parse::<usize>());
+        // Kept: frames of a resumed run's earlier part.
+        if index.is_some_and(|n| n.map_or(true, |n| n >= first_frame)) {
+            remove(&entry.path())?;
         }
     }
     Ok(())

@@ -333,7 +333,8 @@ fn bad_states_are_refused() {
     );
     // Frames the saved run did not write: its series file would list
     // frames that are not there (the run wrote none; one with vtu frames
-    // resumed as vtk is the same case).
+    // resumed as vtk is the same case, and one with frames resumed with
+    // none would leave rows without frames).
     refused(
         &[
             &base[..2],
@@ -351,7 +352,7 @@ fn bad_states_are_refused() {
             ],
         ]
         .concat(),
-        "has no",
+        "--resume with --format vtk: the run in out was started with no --format",
     );
     assert!(!d.join("out/frames").exists(), "no frames folder made");
     // Another integrator's history is not used: it starts afresh (allowed).
@@ -418,4 +419,77 @@ fn bad_states_are_refused() {
     // --checkpoint-every needs --save-state: a usage error.
     let output = sprung(&[&base[..], &["--checkpoint-every", "5"]].concat(), d);
     assert_eq!(output.status.code(), Some(2));
+}
+
+#[test]
+fn a_run_keeps_to_its_format_and_clears_what_an_earlier_run_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let flag = scene("flag.toml");
+    let run = |extra: &[&str]| {
+        let args = [
+            &["run", &flag, "--every", "10", "--quiet", "--out", "out"][..],
+            extra,
+        ]
+        .concat();
+        sprung(&args, d)
+    };
+    let frames = |extension: &str| {
+        std::fs::read_dir(d.join("out/frames")).map_or(0, |entries| {
+            entries
+                .flatten()
+                .filter(|e| e.file_name().to_string_lossy().ends_with(extension))
+                .count()
+        })
+    };
+    // A vtu run, then a shorter vtk run, then one without frames, then a
+    // glTF one, in the same folder: each leaves only its own outputs, so
+    // no series file lists frames that are gone and no picture stays
+    // beside another run's rows.
+    assert!(run(&["--steps", "40", "--format", "vtu"]).status.success());
+    assert_eq!((frames(".vtu"), frames(".pvd")), (5, 1));
+    assert!(run(&["--steps", "20", "--format", "vtk"]).status.success());
+    assert_eq!((frames(".vtu"), frames(".pvd"), frames(".vtk")), (0, 0, 3));
+    assert!(d.join("out/frames/frames.vtk.series").is_file());
+    assert!(run(&["--steps", "20", "--format", "gltf"]).status.success());
+    assert_eq!((frames(".vtk"), frames(".series")), (0, 0));
+    assert!(d.join("out/animation.glb").is_file());
+    assert!(run(&["--steps", "20"]).status.success());
+    assert!(!d.join("out/animation.glb").exists());
+    // A resume keeps the format the run started with: none, or another,
+    // is refused, and glTF cannot be resumed (nor its state saved).
+    assert!(
+        run(&["--steps", "40", "--format", "vtu", "--save-state", "s.bin"])
+            .status
+            .success()
+    );
+    for (extra, expected) in [
+        (
+            &["--resume", "s.bin"][..],
+            "--resume with no --format: the run in out was started with --format vtu",
+        ),
+        (
+            &["--resume", "s.bin", "--format", "obj"],
+            "--resume with --format obj: the run in out was started with --format vtu",
+        ),
+        (
+            &["--resume", "s.bin", "--format", "gltf"],
+            "a resumed run cannot add to",
+        ),
+    ] {
+        let output = run(&[&["--steps", "80"], extra].concat());
+        assert_eq!(output.status.code(), Some(1), "{extra:?}");
+        assert!(
+            text(&output.stderr).contains(expected),
+            "{}",
+            text(&output.stderr)
+        );
+    }
+    assert_eq!(frames(".vtu"), 5);
+    let output = run(&["--steps", "80", "--resume", "s.bin", "--format", "vtu"]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert_eq!(frames(".vtu"), 9);
+    let output = run(&["--steps", "40", "--format", "gltf", "--save-state", "g.bin"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(text(&output.stderr).contains("--save-state with --format gltf"));
 }
