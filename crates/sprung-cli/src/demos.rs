@@ -1,7 +1,7 @@
 //! `sprung demo`: the built-in scenes (`sprung_io::demos`, compiled into the
 //! binary with their meshes, so that `sprung demo` works from any folder).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use sprung::IntegratorKind;
 use sprung_io::demos::{self, DEFAULT_DEMO, DEMOS};
@@ -20,6 +20,18 @@ pub fn list() {
         };
         println!("{:<16} {}{default}", demo.name, demo.about);
     }
+}
+
+/// `path` with the integrator's name before its extension
+/// (`o.state` → `o.rk4.state`, `o` → `o.rk4`): the state file of one of a
+/// demo's runs with every integrator.
+fn per_integrator(path: &Path, kind: IntegratorKind) -> PathBuf {
+    let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+    let name = match path.extension() {
+        Some(extension) => format!("{stem}.{}.{}", kind.name(), extension.to_string_lossy()),
+        None => format!("{stem}.{}", kind.name()),
+    };
+    path.with_file_name(name)
 }
 
 /// Run the demo `name` (or the default one).
@@ -51,12 +63,19 @@ pub fn run(name: Option<&str>, options: &RunOptions) -> Result<(), CliError> {
     } else {
         vec![options.integrator]
     };
+    let (save_state, resume) = (options.save_state.clone(), options.resume.clone());
     for kind in kinds {
         let scene = demo.load()?;
         let folder = match (demo.every_integrator, kind) {
             (true, Some(kind)) => out.join(kind.name()),
             _ => out.clone(),
         };
+        // One run per integrator: each saves (and resumes from) a state
+        // of its own, named after it.
+        if let (true, Some(kind)) = (demo.every_integrator, kind) {
+            options.save_state = save_state.as_deref().map(|p| per_integrator(p, kind));
+            options.resume = resume.as_deref().map(|p| per_integrator(p, kind));
+        }
         options.integrator = kind;
         run_scene(scene, &folder, &options)?;
     }

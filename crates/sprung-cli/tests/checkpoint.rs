@@ -493,3 +493,33 @@ fn a_run_keeps_to_its_format_and_clears_what_an_earlier_run_left() {
     assert_eq!(output.status.code(), Some(1));
     assert!(text(&output.stderr).contains("--save-state with --format gltf"));
 }
+
+#[test]
+fn a_demo_of_every_integrator_saves_and_resumes_a_state_for_each() {
+    // The oscillator demo runs each integrator into its own folder: each
+    // saves its own state (`s.NAME.bin`) and resumes from it, so every run
+    // stopped at step 100 and resumed to 200 writes the same bytes as one
+    // that went straight to 200 (one shared file resumed all of them from
+    // the last one's state).
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let demo = |extra: &[&str]| {
+        let args = [&["demo", "oscillator", "--quiet"][..], extra].concat();
+        let output = sprung(&args, d);
+        assert!(
+            output.status.success(),
+            "{args:?}: {}",
+            text(&output.stderr)
+        );
+    };
+    demo(&["--out", "parts", "--steps", "100", "--save-state", "s.bin"]);
+    demo(&["--out", "parts", "--steps", "200", "--resume", "s.bin"]);
+    demo(&["--out", "whole", "--steps", "200"]);
+    for kind in sprung::IntegratorKind::ALL {
+        assert!(d.join(format!("s.{}.bin", kind.name())).is_file());
+        let csv = |run: &str| {
+            std::fs::read(d.join(run).join(kind.name()).join("diagnostics.csv")).unwrap()
+        };
+        assert_eq!(csv("parts"), csv("whole"), "{}", kind.name());
+    }
+}
