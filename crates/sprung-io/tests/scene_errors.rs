@@ -569,6 +569,15 @@ fn contact_and_substep_keys() {
     );
     assert_error(&substeps("0"), 4, &["substeps", "from 1"]);
     assert_error(&substeps("-2"), 4, &["substeps"]);
+    // A fraction, a float in exponent form or a list: refused in words,
+    // not with the parser's internal message.
+    for (bad, shown) in [("2.5", "2.5"), ("1e3", "1000.0"), ("[2]", "[2]")] {
+        assert_error(
+            &substeps(bad),
+            4,
+            &[&format!("`substeps` = {shown}: give a whole number of substeps")],
+        );
+    }
     for good in ["\"auto\"", "4"] {
         assert!(
             parse_scene(&substeps(good), Path::new("good.toml")).is_ok(),

@@ -366,6 +366,14 @@ fn apply_settings(world: &mut World, sim: &SimTable) -> Result<(), KeyError> {
                     ),
                 ))
             }
+            SubstepsValue::Other(value) => {
+                return Err((
+                    "substeps",
+                    format!(
+                        "`substeps` = {value}: give a whole number of substeps from 1 to {MAX_SUBSTEPS} (no fraction or exponent), or \"auto\""
+                    ),
+                ))
+            }
         };
     }
     // Limits beyond 1e100 would let the energies within them overflow the

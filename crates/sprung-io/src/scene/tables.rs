@@ -171,12 +171,14 @@ pub(crate) struct SimTable {
     pub constraint_iterations: Option<u32>,
 }
 
-/// `substeps = N` or `substeps = "auto"`.
+/// `substeps = N` or `substeps = "auto"`; anything else (a fraction, a
+/// list) is kept to be refused in words.
 #[derive(Debug, Deserialize)]
 #[serde(untagged)]
 pub(crate) enum SubstepsValue {
     Count(i64),
     Name(String),
+    Other(toml::Value),
 }
 
 /// `[[body]]`: one body, from a builder or given particle by particle.
