@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use sprung::error::Readable;
 use sprung_io::load_scene;
 
 use crate::bench::memory;
@@ -69,9 +70,9 @@ pub fn run(path: &Path) -> Result<(), CliError> {
     println!(
         "  {} steps of dt = {} s with {} ({} s)",
         scene.steps,
-        scene.dt,
+        Readable(scene.dt),
         world.integrator(),
-        scene.steps as f64 * scene.dt
+        Readable(scene.steps as f64 * scene.dt)
     );
     let stable = world.stable_time_step();
     if stable.is_finite() {
@@ -79,7 +80,7 @@ pub fn run(path: &Path) -> Result<(), CliError> {
         if !world.integrator().is_implicit() && scene.dt > stable {
             eprintln!(
                 "warning: dt = {} s is above the stable estimate {stable:.3e} s: {} will likely blow up (lower dt, use substeps = \"auto\", or an implicit integrator)",
-                scene.dt,
+                Readable(scene.dt),
                 world.integrator()
             );
         }

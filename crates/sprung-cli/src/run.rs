@@ -6,6 +6,7 @@ use std::path::Path;
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
+use sprung::error::{Readable, Seconds};
 use sprung::{Real, StepError};
 use sprung_io::{load_scene, Scene, SceneError};
 
@@ -156,7 +157,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
             let message = format!(
                 "stopped after step {} (t = {} s): {place}",
                 step - 1,
-                scene.world.time(),
+                Seconds(scene.world.time()),
             );
             return Err(CliError::Interrupted(signal, message));
         }
@@ -223,8 +224,8 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
                 Some(_) => format!("steps {first_step} to {steps}"),
                 None => format!("{steps} steps"),
             },
-            scene.dt,
-            scene.world.time(),
+            Readable(scene.dt),
+            Seconds(scene.world.time()),
             scene.world.integrator(),
         );
     }
@@ -240,8 +241,8 @@ fn rods_warning(scene: &Scene) -> String {
         .first_unconverged
         .unwrap_or((scene.world.steps(), f64::NAN));
     format!(
-        "step {step} (t = {:.6} s): after constraint_iterations = {} sweeps a rod is still off its length by {error:.3e} (relative), above constraint_tolerance = {:.1e}; rods between very unequal masses converge slowly (raise `constraint_iterations`, lower `dt`, or even out the masses), and rods whose lengths cannot all hold at once (rods between pinned particles or rigid bodies, which the check of the lengths at load does not cover) never converge: check the lengths (warned once, counted at the end)",
-        scene.world.time(),
+        "step {step} (t = {} s): after constraint_iterations = {} sweeps a rod is still off its length by {error:.3e} (relative), above constraint_tolerance = {:.1e}; rods between very unequal masses converge slowly (raise `constraint_iterations`, lower `dt`, or even out the masses), and rods whose lengths cannot all hold at once (rods between pinned particles or rigid bodies, which the check of the lengths at load does not cover) never converge: check the lengths (warned once, counted at the end)",
+        Seconds(scene.world.time()),
         settings.iterations,
         settings.tolerance
     )
@@ -257,8 +258,8 @@ fn unconverged_warning(scene: &Scene) -> String {
         .first_unconverged
         .unwrap_or((scene.world.steps(), f64::NAN));
     format!(
-        "step {step} (t = {:.6} s): the {} solver stopped after max_iterations = {} with a relative residual {residual:.3e}, above solver_tolerance = {:.1e}; the step was taken less accurately (raise `max_iterations` or `solver_tolerance` in [sim], or lower `dt`; warned once, counted at the end)",
-        scene.world.time(),
+        "step {step} (t = {} s): the {} solver stopped after max_iterations = {} with a relative residual {residual:.3e}, above solver_tolerance = {:.1e}; the step was taken less accurately (raise `max_iterations` or `solver_tolerance` in [sim], or lower `dt`; warned once, counted at the end)",
+        Seconds(scene.world.time()),
         scene.world.integrator(),
         settings.max_iterations,
         settings.tolerance

@@ -575,7 +575,9 @@ fn contact_and_substep_keys() {
         assert_error(
             &substeps(bad),
             4,
-            &[&format!("`substeps` = {shown}: give a whole number of substeps")],
+            &[&format!(
+                "`substeps` = {shown}: give a whole number of substeps"
+            )],
         );
     }
     for good in ["\"auto\"", "4"] {

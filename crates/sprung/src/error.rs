@@ -125,7 +125,7 @@ pub enum BuildError {
         springs: usize,
     },
     /// A muscle parameter outside its range.
-    #[error("`muscles`[{muscle}].{field} = {value}: {reason}")]
+    #[error("`muscles`[{muscle}].{field} = {}: {reason}", Readable(*value))]
     BadMuscle {
         /// Muscle index.
         muscle: usize,
@@ -143,7 +143,7 @@ pub enum BuildError {
     #[error("`rigid` = true cannot be combined with `pinned` particles")]
     RigidPinned,
     /// A parameter outside its allowed range.
-    #[error("`{field}` = {value}: {reason}")]
+    #[error("`{field}` = {}: {reason}", Readable(*value))]
     OutOfRange {
         /// Scene key of the parameter.
         field: &'static str,
@@ -329,7 +329,7 @@ pub enum StepError {
     #[error("solver settings: {0}")]
     InvalidSettings(BuildError),
     /// The implicit solver failed at this step.
-    #[error("step {step} (t = {time:.6} s): {source}")]
+    #[error("step {step} (t = {} s): {source}", Seconds(*time))]
     Solver {
         /// Number of the step that failed (1 = first step).
         step: u64,
@@ -347,7 +347,7 @@ pub enum StepError {
     /// The detect stage found more candidate contact pairs than
     /// [`crate::contact::pair_limit`] allows: the contact thickness is many
     /// times the spacing of the particles. Nothing moved in the step.
-    #[error("step {step} (t = {time:.6} s): contact between bodies found more than {limit} candidate pairs (the limit: {} per particle or surface element that can touch, {} at least): the contact thickness {thickness} m is too large for the spacing of the particles; lower `[contact] thickness`", crate::contact::PAIRS_PER_ELEMENT, crate::contact::MIN_PAIR_LIMIT)]
+    #[error("step {step} (t = {} s): contact between bodies found more than {limit} candidate pairs (the limit: {} per particle or surface element that can touch, {} at least): the contact thickness {thickness} m is too large for the spacing of the particles; lower `[contact] thickness`", Seconds(*time), crate::contact::PAIRS_PER_ELEMENT, crate::contact::MIN_PAIR_LIMIT)]
     TooManyContacts {
         /// Number of the step refused (1 = first step).
         step: u64,
@@ -359,7 +359,7 @@ pub enum StepError {
         thickness: Real,
     },
     /// The state became non-finite or ran away: the run must stop.
-    #[error("simulation blew up at step {step} (t = {time:.6} s): particle {particle} ({body}) {reason}; {}", advice(*dt, *stable_dt))]
+    #[error("simulation blew up at step {step} (t = {} s): particle {particle} ({body}) {reason}; {}", Seconds(*time), advice(*dt, *stable_dt))]
     BlowUp {
         /// Number of the step that produced the bad state (1 = first step).
         step: u64,
@@ -376,6 +376,38 @@ pub enum StepError {
         /// Stable time-step estimate from the springs and masses (s).
         stable_dt: Real,
     },
+}
+
+/// A number for a message, as written in a scene: plainly between 1e-4
+/// and 1e15 in size (and zero), in exponent form beyond (`1e300`, not its
+/// three hundred digits).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Readable(pub Real);
+
+impl std::fmt::Display for Readable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let size = self.0.abs();
+        if size == 0.0 || !size.is_finite() || (1e-4..1e15).contains(&size) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
+/// A simulated time (s) for a message: to the microsecond up to 1e9 s, in
+/// exponent form beyond.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Seconds(pub Real);
+
+impl std::fmt::Display for Seconds {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0.abs() < 1e9 || !self.0.is_finite() {
+            write!(f, "{:.6}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
 }
 
 /// What to do about a blow-up at time step `dt` given the stable estimate.
@@ -407,5 +439,29 @@ impl std::fmt::Display for BlowUpReason {
             BlowUpReason::TooFar(d) => write!(f, "ran away to {d:.3e} m from the origin"),
             BlowUpReason::TooFast(v) => write!(f, "ran away at {v:.3e} m/s"),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_in_messages_are_written_as_in_a_scene() {
+        // Plain between 1e-4 and 1e15, exponent form beyond: 1e300 is
+        // four characters, not 301 digits.
+        for (x, shown) in [
+            (0.0, "0"),
+            (0.25, "0.25"),
+            (-3.0, "-3"),
+            (1e300, "1e300"),
+            (-1e308, "-1e308"),
+            (2.5e-7, "2.5e-7"),
+            (Real::INFINITY, "inf"),
+        ] {
+            assert_eq!(Readable(x).to_string(), shown);
+        }
+        assert_eq!(Seconds(1.5).to_string(), "1.500000");
+        assert_eq!(Seconds(1e300).to_string(), "1e300");
     }
 }
