@@ -42,6 +42,21 @@ pub fn install() -> bool {
         .is_some()
 }
 
+/// Exit quietly with status 141 (128 + SIGPIPE) when what reads the
+/// output goes away (`sprung check scene.toml | head -2`), as command-line
+/// tools do, instead of failing to print (Rust ignores SIGPIPE, so a
+/// write to the closed pipe would panic). Nothing is lost: output files
+/// are not pipes.
+pub fn quiet_on_broken_pipe() {
+    #[cfg(unix)]
+    {
+        use signal_hook::consts::SIGPIPE;
+        let always = Arc::new(AtomicBool::new(true));
+        // Refused (no handler): the old behaviour stays.
+        let _ = signal_hook::flag::register_conditional_shutdown(SIGPIPE, 128 + SIGPIPE, always);
+    }
+}
+
 /// The signal received since [`install`], if any.
 pub fn received() -> Option<Signal> {
     let received = RECEIVED.get()?.as_ref()?;

@@ -123,6 +123,7 @@ pub struct RunOptions {
 }
 
 fn main() -> ExitCode {
+    interrupt::quiet_on_broken_pipe();
     let cli = Cli::parse();
     if let Err(error) = sprung::parallel::configure(cli.threads.map(usize::from)) {
         eprintln!("error: {error}");

@@ -553,3 +553,29 @@ fn check_loads_a_scene_without_running_it() {
         "check writes nothing"
     );
 }
+
+#[cfg(unix)]
+#[test]
+fn output_into_a_closed_pipe_ends_quietly() {
+    // `sprung demo --list | head -1`: the reader has gone when sprung
+    // prints. Claim: it exits with 141 (128 + SIGPIPE) or, if it printed
+    // before the pipe closed, 0, and never with a panic.
+    use std::process::{Command, Stdio};
+    for _ in 0..5 {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_sprung"))
+            .args(["demo", "--list"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the sprung binary runs");
+        drop(child.stdout.take());
+        let output = child.wait_with_output().expect("it ends");
+        let stderr = text(&output.stderr);
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        assert!(
+            matches!(output.status.code(), Some(0 | 141)),
+            "{:?}: {stderr}",
+            output.status
+        );
+    }
+}

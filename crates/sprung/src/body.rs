@@ -424,7 +424,26 @@ impl BodyData {
         } else {
             return Err(BuildError::GasWithoutSurface);
         };
-        closed.map_err(|problem| BuildError::OpenSurface { problem })
+        closed.map_err(|problem| BuildError::OpenSurface { problem })?;
+        if self.faces.is_empty() {
+            // A 2D gas takes the area its loop encloses in the xy-plane.
+            let off = |vectors: &[Vec3], what| {
+                vectors
+                    .iter()
+                    .position(|v| v.z != 0.0)
+                    .map(|particle| BuildError::GasOffPlane {
+                        particle,
+                        what,
+                        value: vectors[particle].z,
+                    })
+            };
+            if let Some(error) =
+                off(&self.position, "z").or_else(|| off(&self.velocity, "velocity z"))
+            {
+                return Err(error);
+            }
+        }
+        Ok(())
     }
 
     fn validate_particles(&self, count: usize) -> Result<(), BuildError> {

@@ -79,6 +79,17 @@ pub enum BuildError {
         /// Its length (m).
         length: Real,
     },
+    /// A 2D gas body (bounded by `segments`) off the plane z = 0, or moving
+    /// out of it: its gas takes the area its loop encloses in the xy-plane.
+    #[error("a 2D gas body (bounded by `segments`) must lie and move in the plane z = 0, where its gas takes the area the loop encloses: particle {particle} has {what} = {}", Readable(*value))]
+    GasOffPlane {
+        /// The first particle off the plane.
+        particle: usize,
+        /// `z` or `velocity z`.
+        what: &'static str,
+        /// Its value (m or m/s).
+        value: Real,
+    },
     /// Two rods on the same two particles at different lengths.
     #[error("`rods`[{rod}] ({length} m) and `rods`[{other}] ({other_length} m) join the same two particles at different lengths: both cannot hold")]
     ConflictingRods {

@@ -482,7 +482,9 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::PinnedOutOfRange { .. } => "pinned",
         BuildError::BadFace { .. } => "faces",
         BuildError::BadSegment { .. } => "segments",
-        BuildError::GasWithoutSurface | BuildError::OpenSurface { .. } => "gas",
+        BuildError::GasWithoutSurface
+        | BuildError::OpenSurface { .. }
+        | BuildError::GasOffPlane { .. } => "gas",
         BuildError::SelfCollisionWithoutSurface => "self_collision",
         BuildError::DuplicateName(_) | BuildError::BadName(_) => "name",
         BuildError::RodIndexOutOfRange { .. }
