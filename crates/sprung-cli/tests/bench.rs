@@ -90,9 +90,13 @@ fn bench_refuses_impossible_options() {
         &["bench", "--sizes", "1"],
         &["bench", "--seconds", "-1"],
         &["bench", "--only", "nonsense"],
+        // Refused before the timing, not after it.
+        &["bench", "--csv", "missing/table.csv"],
+        &["bench", "--csv", "."],
     ] {
         let output = sprung(args, dir.path());
         assert!(!output.status.success(), "{args:?} was accepted");
         assert!(!text(&output.stderr).is_empty());
+        assert!(output.stdout.is_empty(), "{args:?} timed something");
     }
 }

@@ -126,6 +126,24 @@ fn median(values: &mut [usize]) -> usize {
 
 /// Run the bench (or the demos' real-time factors) and print the table.
 pub fn run(args: &BenchArgs) -> Result<(), CliError> {
+    if let Some(path) = &args.csv {
+        // Refused before the minutes of timing, not after them.
+        let folder = match path.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent,
+            _ => std::path::Path::new("."),
+        };
+        if path.is_dir() || !folder.is_dir() {
+            return Err(CliError::Input(format!(
+                "--csv {}: {}",
+                path.display(),
+                if path.is_dir() {
+                    "is a folder; give a file"
+                } else {
+                    "its folder does not exist"
+                }
+            )));
+        }
+    }
     if args.steps == 0 {
         return Err(CliError::Input("--steps must be at least 1".into()));
     }
