@@ -45,8 +45,9 @@ pub fn install() -> bool {
 /// Exit quietly with status 141 (128 + SIGPIPE) when what reads the
 /// output goes away (`sprung check scene.toml | head -2`), as command-line
 /// tools do, instead of failing to print (Rust ignores SIGPIPE, so a
-/// write to the closed pipe would panic). Nothing is lost: output files
-/// are not pipes.
+/// write to the closed pipe would panic). The process ends at once, as if
+/// killed: a run's outputs stay as a kill leaves them (the rows so far in
+/// `diagnostics.csv.partial`, which `--resume` goes on from).
 pub fn quiet_on_broken_pipe() {
     #[cfg(unix)]
     {

@@ -48,9 +48,6 @@ impl<'a> Outputs<'a> {
         records: u64,
     ) -> Result<Self, CliError> {
         let format = options.format;
-        if resumed.is_some() {
-            check_resumed_format(out, format)?;
-        }
         if format == Some(OutputFormat::Gltf) {
             let bytes = Animation::estimated_bytes(world, records);
             if bytes > ANIMATION_BUDGET {
@@ -74,6 +71,9 @@ impl<'a> Outputs<'a> {
         let table = |name: &&str| out.join(name).is_file();
         if resumed.is_some() && !DIAGNOSTICS_TABLES.iter().any(table) {
             return Err(no_diagnostics(out));
+        }
+        if resumed.is_some() {
+            check_resumed_format(out, format)?;
         }
         let frames_dir = out.join("frames");
         let first_frame = resumed.map_or(0, |r| r.rows);
@@ -314,19 +314,23 @@ fn format_flag(format: Option<OutputFormat>) -> String {
 /// began, frame n with row n; a glTF animation cannot be added to.
 fn check_resumed_format(out: &Path, format: Option<OutputFormat>) -> Result<(), CliError> {
     let started = started_format(out);
-    if started == Some(OutputFormat::Gltf) || format == Some(OutputFormat::Gltf) {
+    if started == Some(OutputFormat::Gltf) {
         return Err(CliError::Input(format!(
-            "--resume: a run recorded as glTF keeps the whole run in one {ANIMATION}, which a resumed run cannot add to ({} was {}): run it again from the start, with --format vtu, vtk or obj to resume it later",
-            out.display(),
-            if started == Some(OutputFormat::Gltf) { "recorded so" } else { "not" }
+            "--resume: the run in {} was recorded as glTF, the whole run in one {ANIMATION}, which a resumed run cannot add to: run it again from the start, with --format vtu, vtk or obj to resume it later",
+            out.display()
         )));
     }
     if started != format {
         return Err(CliError::Input(format!(
-            "--resume with {}: the run in {} was started with {} (resume with that, so that its frames go on with its rows)",
+            "--resume with {}: the run in {} was started with {} (resume with that, so that its frames go on with its rows{})",
             format_flag(format),
             out.display(),
-            format_flag(started)
+            format_flag(started),
+            if format == Some(OutputFormat::Gltf) {
+                "; a glTF animation cannot be resumed anyway"
+            } else {
+                ""
+            }
         )));
     }
     Ok(())

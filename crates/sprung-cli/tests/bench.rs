@@ -93,6 +93,8 @@ fn bench_refuses_impossible_options() {
         // Refused before the timing, not after it.
         &["bench", "--csv", "missing/table.csv"],
         &["bench", "--csv", "."],
+        &["bench", "--csv", ""],
+        &["bench", "--csv", "newdir/"],
     ] {
         let output = sprung(args, dir.path());
         assert!(!output.status.success(), "{args:?} was accepted");

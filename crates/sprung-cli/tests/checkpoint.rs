@@ -474,7 +474,7 @@ fn a_run_keeps_to_its_format_and_clears_what_an_earlier_run_left() {
         ),
         (
             &["--resume", "s.bin", "--format", "gltf"],
-            "a resumed run cannot add to",
+            "a glTF animation cannot be resumed",
         ),
     ] {
         let output = run(&[&["--steps", "80"], extra].concat());

@@ -239,7 +239,7 @@ fn a_contact_thickness_far_beyond_the_spacing_is_refused_before_the_run() {
     // Two 60 × 60 cloths 10 cm apart with a 20 cm contact thickness: more
     // candidate pairs than the engine's limit (it used to take gigabytes
     // and abort). `check` and `run` refuse it with status 1, and `run`
-    // writes nothing; at 5 cm `check` counts the pairs and the run goes.
+    // writes nothing; at 6 cm `check` counts the pairs and the run goes.
     let dir = tempfile::tempdir().expect("tempdir");
     let scene = |thickness: f64| {
         format!(

@@ -276,7 +276,7 @@ fn off_errors_name_the_line() {
     let err = error_of(&first_lines(&sphere, lines - 10), "s.off");
     assert_eq!(
         err.to_string(),
-        "s.off:2: the file ends early (truncated?): after 1164 of the 1174 faces declared on line 2"
+        "s.off:2: the file ends early (truncated?): the header declares 589 vertices and 1174 faces, a line each, but 1753 lines of data follow"
     );
     let err = error_of(&(sphere.clone() + "3 0 1 2\n"), "s.off");
     assert_eq!(err.line, Some(lines + 1), "{err}");
@@ -294,8 +294,8 @@ fn off_errors_name_the_line() {
         // header, not the face line read as a vertex.
         (
             with_line(small, 2, "1000000000000 1 0"),
-            "t.off:2: the header declares 1000000000000 vertices, a line each, \
-             but the file has 6 lines",
+            "t.off:2: the file ends early (truncated?): the header declares 1000000000000 \
+             vertices and 1 faces, a line each, but 4 lines of data follow",
         ),
         (
             with_line(small, 6, "3 0 1 3"),

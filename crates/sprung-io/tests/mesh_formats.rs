@@ -416,6 +416,9 @@ fn stl_facets_welded_into_a_line_or_a_point_are_left_out() {
         .collect();
     facets.insert(3, [a, b, a]);
     facets.push([b, b, b]);
+    // A sliver whose third corner is nowhere else: that corner is no
+    // vertex either (it would be a particle of no triangle).
+    facets.push([a, a, [9.0, 9.0, 9.0]]);
     let ascii: String = std::iter::once("solid s\n".to_owned())
         .chain(facets.iter().map(|corners| {
             let vertices: String = corners

@@ -914,7 +914,10 @@ fn a_2d_gas_body_off_its_plane_is_refused() {
         7,
         &["a 2D gas body", "particle 0 has velocity z = 5"],
     );
-    // In the plane, spun about z: accepted.
+    // In the plane, spun about z, or turned over (a half turn about x
+    // leaves z of rounding size, some 1e-17 m): accepted.
     let spun = format!("{ring}rotate = [0.0, 0.0, 30.0]\nvelocity = [1.0, 2.0]\n");
     assert!(parse_scene(&spun, Path::new("spun.toml")).is_ok());
+    let over = format!("{ring}rotate = [180.0, 0.0, 0.0]\nvelocity = [1.0, 2.0]\n");
+    assert!(parse_scene(&over, Path::new("over.toml")).is_ok());
 }

@@ -314,9 +314,14 @@ fn runs_are_compared_on_one_chart() {
         plot::compare_out_dir(&[a.clone(), inner]),
         group.join("plots")
     );
+    // A run named from inside its folder or beside it: the folder above.
     assert_eq!(
         plot::compare_out_dir(&[PathBuf::from("run")]),
-        PathBuf::from("./plots")
+        PathBuf::from("run/../plots")
+    );
+    assert_eq!(
+        plot::compare_out_dir(&[PathBuf::from(".")]),
+        PathBuf::from("./../plots")
     );
     let file = plot::plot_compare(&runs, "total", None, &PlotOptions::default()).expect("compare");
     assert_eq!(file, group.join("plots/compare.png"));

@@ -15,8 +15,9 @@ use crate::{Real, Vec3};
 /// stage converges to by default).
 const ROD_SLACK: Real = 1e-9;
 
-/// Particles the search for paths of rods shorter than a rod may reach,
-/// over all of a body's rods: past it, the remaining rods are not checked.
+/// Steps the search for paths of rods shorter than a rod may take (a
+/// particle reached, or a rod looked at), over all of a body's rods: past
+/// it, the remaining rods are not checked.
 pub const ROD_SEARCH_LIMIT: usize = 10_000_000;
 
 /// One spring of a [`BodyData`], with particle indices local to the body.
@@ -426,11 +427,16 @@ impl BodyData {
         };
         closed.map_err(|problem| BuildError::OpenSurface { problem })?;
         if self.faces.is_empty() {
-            // A 2D gas takes the area its loop encloses in the xy-plane.
+            // A 2D gas takes the area its loop encloses in the xy-plane. A
+            // z of a billionth of the body's size (or speed) is rounding: a
+            // ring turned half a turn about x has z of some 1e-17.
             let off = |vectors: &[Vec3], what| {
+                let size = vectors
+                    .iter()
+                    .fold(0.0, |m: Real, v| m.max(v.x.abs()).max(v.y.abs()));
                 vectors
                     .iter()
-                    .position(|v| v.z != 0.0)
+                    .position(|v| v.z.abs() > 1e-9 * size)
                     .map(|particle| BuildError::GasOffPlane {
                         particle,
                         what,
@@ -596,9 +602,15 @@ impl BodyData {
     /// commonest case. Each rod's ends are joined by the shortest path of
     /// the others shorter than it (Dijkstra's search, given up at the
     /// rod's length, so a rod among longer ones costs no more than its
-    /// neighbours); past [`ROD_SEARCH_LIMIT`] particles reached in all, the
-    /// remaining rods are not checked.
+    /// neighbours; it starts from the end with fewer rods); past
+    /// [`ROD_SEARCH_LIMIT`] steps in all, the remaining rods are not
+    /// checked. Lengths all taken from the positions always hold.
     fn validate_rod_lengths(&self) -> Result<(), BuildError> {
+        // Lengths taken from the positions hold at once (they are the
+        // distances of one placement), to rounding far below the slack.
+        if self.rods.iter().all(|r| r.length.is_none()) {
+            return Ok(());
+        }
         let mut rod_of: HashMap<(usize, usize), usize> = HashMap::with_capacity(self.rods.len());
         let mut ends: HashMap<usize, Vec<(usize, usize)>> = HashMap::new();
         for (rod, r) in self.rods.iter().enumerate() {
@@ -627,14 +639,25 @@ impl BodyData {
                 continue;
             }
             let length = self.rod_length(r);
-            let Some((path, together)) =
-                self.shorter_path(&ends, rod, r.first, r.second, length, &mut budget)
+            // From the end with fewer rods: a hub of many rods is reached
+            // last, if at all.
+            let degree = |p: usize| ends.get(&p).map_or(0, Vec::len);
+            let (from, to) = if degree(r.first) <= degree(r.second) {
+                (r.first, r.second)
+            } else {
+                (r.second, r.first)
+            };
+            let Some((mut path, together)) =
+                self.shorter_path(&ends, rod, from, to, length, &mut budget)
             else {
                 if budget == 0 {
                     break;
                 }
                 continue;
             };
+            if from != r.first {
+                path.reverse();
+            }
             return Err(BuildError::RodLoop {
                 rod,
                 length,
@@ -648,7 +671,8 @@ impl BodyData {
     /// The rods (in order from `from` to `to`) of the shortest path between
     /// them through rods other than `rod`, and its length (m), if it is
     /// shorter than `length` (m) by more than [`ROD_SLACK`]. Each particle
-    /// reached takes one from `budget`; `None` as well when it runs out.
+    /// reached takes one from `budget`, and one for each of its rods;
+    /// `None` as well when it runs out.
     fn shorter_path(
         &self,
         ends: &HashMap<usize, Vec<(usize, usize)>>,
@@ -693,7 +717,9 @@ impl BodyData {
             if reached.get(&particle).is_some_and(|&(d, _)| d < distance) {
                 continue;
             }
-            *budget -= 1;
+            // A particle reached, and each of its rods looked at.
+            let rods = ends.get(&particle).map_or(0, Vec::len);
+            *budget = budget.saturating_sub(1 + rods);
             if particle == to {
                 let mut path = Vec::new();
                 let mut at = to;

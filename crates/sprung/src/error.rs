@@ -358,7 +358,7 @@ pub enum StepError {
     /// The detect stage found more candidate contact pairs than
     /// [`crate::contact::pair_limit`] allows: the contact thickness is many
     /// times the spacing of the particles. Nothing moved in the step.
-    #[error("step {step} (t = {} s): contact between bodies found more than {limit} candidate pairs (the limit: {} per particle or surface element that can touch, {} at least): the contact thickness {thickness} m is too large for the spacing of the particles; lower `[contact] thickness`", Seconds(*time), crate::contact::PAIRS_PER_ELEMENT, crate::contact::MIN_PAIR_LIMIT)]
+    #[error("step {step} (t = {} s): contact between bodies found more than {limit} candidate pairs (the limit: {} per particle or surface element that can touch, {} at least): the contact thickness {thickness} m, widened by the distance the particles close in a step, is too large for the spacing of the particles; lower `[contact] thickness` (or `dt`, if the bodies move fast)", Seconds(*time), crate::contact::PAIRS_PER_ELEMENT, crate::contact::MIN_PAIR_LIMIT)]
     TooManyContacts {
         /// Number of the step refused (1 = first step).
         step: u64,

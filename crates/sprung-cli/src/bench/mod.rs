@@ -132,12 +132,15 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             Some(parent) if !parent.as_os_str().is_empty() => parent,
             _ => std::path::Path::new("."),
         };
-        if path.is_dir() || !folder.is_dir() {
+        let names_a_folder = path.as_os_str().is_empty()
+            || path.is_dir()
+            || path.to_string_lossy().ends_with(std::path::MAIN_SEPARATOR);
+        if names_a_folder || !folder.is_dir() {
             return Err(CliError::Input(format!(
-                "--csv {}: {}",
-                path.display(),
-                if path.is_dir() {
-                    "is a folder; give a file"
+                "--csv {:?}: {}",
+                path.display().to_string(),
+                if names_a_folder {
+                    "names a folder, or nothing; give a file"
                 } else {
                     "its folder does not exist"
                 }

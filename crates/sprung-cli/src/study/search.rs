@@ -148,6 +148,14 @@ pub fn trial(plan: &Plan, kind: IntegratorKind, dt: Real) -> Result<Verdict, Cli
                 verdict = Verdict::Unstable(format!("solver failed at step {step}: {source}"));
                 break;
             }
+            // Pairs searched with the step's motion: a large trial step,
+            // or a run that speeds up, finds too many.
+            Err(StepError::TooManyContacts { limit, .. }) => {
+                verdict = Verdict::Unstable(format!(
+                    "more than {limit} contact pairs at step {step} (the motion of a step widens the search)"
+                ));
+                break;
+            }
             Err(e) => return Err(CliError::Input(format!("{}: {e}", plan.path.display()))),
         }
         if let Some(why) = energy.as_mut().and_then(|e| e.observe(&world, step)) {

@@ -30,10 +30,13 @@ pub fn parse_off(text: &str, file: &Path) -> Result<Vec<TriangleMesh>, MeshError
     let err = |kind: MeshErrorKind, line: usize| MeshError::new(file, kind).at_line(line);
 
     // Data lines: comments removed, blank lines skipped, 1-based numbers kept.
-    let mut data_lines = lines(text).filter_map(|(line, raw)| {
-        let data = raw.split('#').next().unwrap_or("").trim();
-        (!data.is_empty()).then_some((line, data))
-    });
+    let data: Vec<(usize, &str)> = lines(text)
+        .filter_map(|(line, raw)| {
+            let data = raw.split('#').next().unwrap_or("").trim();
+            (!data.is_empty()).then_some((line, data))
+        })
+        .collect();
+    let mut data_lines = data.iter().copied();
 
     let (header_line, header) = data_lines
         .next()
@@ -79,15 +82,15 @@ pub fn parse_off(text: &str, file: &Path) -> Result<Vec<TriangleMesh>, MeshError
         unsigned(edges, "an edge count").map_err(|k| err(k, counts_line))?;
     }
 
-    // Each vertex takes a line of its own: more vertices than the file has
-    // lines is a count that is wrong, not a file cut short, and would
-    // otherwise read the faces as vertices.
-    let file_lines = text.lines().count();
-    if vertex_count > file_lines {
+    // Each vertex and each face takes a data line of its own: counts
+    // beyond the lines that follow are refused here, at the header, rather
+    // than by reading faces as vertices.
+    let data_left = data_lines.len();
+    if vertex_count.saturating_add(face_count) > data_left {
         return Err(err(
-            syntax(format!(
-                "the header declares {vertex_count} vertices, a line each, \
-                 but the file has {file_lines} lines"
+            MeshErrorKind::Truncated(format!(
+                "the header declares {vertex_count} vertices and {face_count} faces, \
+                 a line each, but {data_left} lines of data follow"
             )),
             counts_line,
         ));

@@ -32,6 +32,7 @@ use std::path::Path;
 
 use super::error::{MeshError, MeshErrorKind};
 use super::text::{coordinate, decode, lines, shown, stem_name, syntax};
+use super::topology::is_degenerate;
 use super::TriangleMesh;
 
 /// Reads an STL file, ASCII or binary, welding exactly equal corners.
@@ -118,24 +119,47 @@ fn parse_binary(bytes: &[u8], count: usize, file: &Path) -> Result<Vec<TriangleM
             }
             *slot = welder.index(p);
         }
-        if has_area(triangle) {
+        if !is_degenerate(&triangle) {
             triangles.push(triangle);
         }
     }
     if triangles.is_empty() {
         return Err(MeshError::new(file, MeshErrorKind::NoMesh));
     }
+    let (positions, triangles) = used_only(welder.positions, triangles);
     Ok(vec![TriangleMesh {
         name: stem_name(file),
-        positions: welder.positions,
+        positions,
         triangles,
     }])
 }
 
-/// Whether a facet's welded corners are three vertices: one with two
-/// corners welded into one is a line or a point, with no area.
-fn has_area([a, b, c]: [usize; 3]) -> bool {
-    a != b && b != c && a != c
+/// The vertices some triangle uses, in their order, and the triangles
+/// numbered among them: a corner only a left-out sliver had would be a
+/// particle of no triangle.
+fn used_only(
+    positions: Vec<[f64; 3]>,
+    mut triangles: Vec<[usize; 3]>,
+) -> (Vec<[f64; 3]>, Vec<[usize; 3]>) {
+    let mut used = vec![false; positions.len()];
+    for &v in triangles.iter().flatten() {
+        used[v] = true;
+    }
+    if used.iter().all(|&u| u) {
+        return (positions, triangles);
+    }
+    let mut number = vec![0; positions.len()];
+    let mut kept = Vec::with_capacity(positions.len());
+    for (v, p) in positions.into_iter().enumerate() {
+        if used[v] {
+            number[v] = kept.len();
+            kept.push(p);
+        }
+    }
+    for v in triangles.iter_mut().flatten() {
+        *v = number[*v];
+    }
+    (kept, triangles)
 }
 
 /// Maps exactly equal coordinates to one vertex index.
@@ -209,10 +233,11 @@ fn parse_ascii(text: &str, file: &Path) -> Result<Vec<TriangleMesh>, MeshError> 
             (Expect::FacetOrEnd, "facet") => state = Expect::OuterLoop,
             (Expect::FacetOrEnd, "endsolid") => {
                 if let Some(s) = solid.take() {
+                    let (positions, triangles) = used_only(s.welder.positions, s.triangles);
                     meshes.push(TriangleMesh {
                         name: s.name,
-                        positions: s.welder.positions,
-                        triangles: s.triangles,
+                        positions,
+                        triangles,
                     });
                 }
                 state = Expect::Solid;
@@ -259,7 +284,7 @@ fn parse_ascii(text: &str, file: &Path) -> Result<Vec<TriangleMesh>, MeshError> 
                     ));
                 };
                 if let Some(s) = solid.as_mut() {
-                    if has_area([*a, *b, *c]) {
+                    if !is_degenerate(&[*a, *b, *c]) {
                         s.triangles.push([*a, *b, *c]);
                     }
                 }

@@ -78,7 +78,8 @@ struct EdgeUses {
     uses: Vec<(usize, bool)>,
 }
 
-fn is_degenerate(&[a, b, c]: &[usize; 3]) -> bool {
+/// Whether a triangle names a vertex twice (a line or a point, no area).
+pub(super) fn is_degenerate(&[a, b, c]: &[usize; 3]) -> bool {
     a == b || b == c || c == a
 }
 

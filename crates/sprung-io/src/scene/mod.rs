@@ -31,6 +31,7 @@ use sprung::{
 use bulk::BulkArrays;
 use error::{key_before, line_of, line_of_key};
 use sections::Sections;
+use sprung::error::Readable;
 use tables::{BodySection, BodyTable, ColliderTable, SceneFile, SimTable, SubstepsValue};
 use toml::Spanned;
 
@@ -608,7 +609,7 @@ pub(crate) fn positive(key: &'static str, value: Real, reason: &str) -> Result<R
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err((key, format!("`{key}` = {value}: {reason}")))
+        Err((key, format!("`{key}` = {}: {reason}", Readable(value))))
     }
 }
 

@@ -15,7 +15,10 @@ pub const DIAGNOSTICS: &str = "diagnostics.csv";
 /// The folder of a run given as its folder or as its `diagnostics.csv`.
 fn run_dir(path: &Path) -> &Path {
     if path.is_file() {
-        path.parent().unwrap_or(Path::new("."))
+        match path.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent,
+            _ => Path::new("."),
+        }
     } else {
         path
     }
@@ -97,8 +100,11 @@ pub fn compare_out_dir(runs: &[PathBuf]) -> PathBuf {
     let common = common_ancestor(runs);
     let holding = if runs.iter().any(|r| run_dir(r) == common) {
         match common.parent() {
-            Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
-            _ => PathBuf::from("."),
+            Some(parent) if !parent.as_os_str().is_empty() && common.file_name().is_some() => {
+                parent.to_path_buf()
+            }
+            // `run`, `.`, `..`: the folder above, as written.
+            _ => common.join(".."),
         }
     } else {
         common
