@@ -579,7 +579,16 @@ impl World {
 
     /// The detect stage: the candidate contact pairs of this step.
     fn detect(&mut self, dt: Real) -> Result<(), StepError> {
-        self.contacts
+        let mut contacts = std::mem::take(&mut self.contacts);
+        let detected = self.detect_into(&mut contacts, dt);
+        self.contacts = contacts;
+        detected
+    }
+
+    /// The detect stage at the current state into `contacts` (the world's
+    /// own, or a copy), its refusal as the next step's error.
+    fn detect_into(&self, contacts: &mut Contacts, dt: Real) -> Result<(), StepError> {
+        contacts
             .detect(
                 &self.bodies,
                 &self.springs,
@@ -591,7 +600,7 @@ impl World {
                 step: self.steps + 1,
                 time: self.time,
                 limit: too_many.limit,
-                thickness: self.contacts.settings.thickness,
+                thickness: contacts.settings.thickness,
             })
     }
 
@@ -916,20 +925,7 @@ impl World {
     /// can refuse a scene before it starts.
     pub fn contact_pairs_now(&self, dt: Real) -> Result<usize, StepError> {
         let mut contacts = self.contacts.clone();
-        contacts
-            .detect(
-                &self.bodies,
-                &self.springs,
-                &self.particles.position,
-                &self.particles.velocity,
-                dt,
-            )
-            .map_err(|too_many| StepError::TooManyContacts {
-                step: self.steps + 1,
-                time: self.time,
-                limit: too_many.limit,
-                thickness: contacts.settings.thickness,
-            })?;
+        self.detect_into(&mut contacts, dt)?;
         Ok(contacts.pairs.len())
     }
 

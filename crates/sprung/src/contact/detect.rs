@@ -516,6 +516,19 @@ impl Budget {
     fn exceeded(&self) -> bool {
         self.found.load(Ordering::Relaxed) > self.limit
     }
+
+    /// Whether a chunk that has found `found` pairs may go on: what it
+    /// found since it last counted (`counted`) is counted every
+    /// [`BUDGET_STRIDE`] pairs, and the limit looked at in between.
+    fn may_go_on(&self, found: usize, counted: &mut usize) -> bool {
+        if found - *counted >= BUDGET_STRIDE {
+            let over = self.spend(found - *counted);
+            *counted = found;
+            !over
+        } else {
+            !self.exceeded()
+        }
+    }
 }
 
 /// Candidate pairs a search may find per element that looks for them or
@@ -605,12 +618,7 @@ impl Search<'_> {
             |range, found| {
                 let mut counted = 0;
                 for e in range {
-                    if found.len() - counted >= BUDGET_STRIDE {
-                        if self.budget.spend(found.len() - counted) {
-                            return;
-                        }
-                        counted = found.len();
-                    } else if self.budget.exceeded() {
+                    if !self.budget.may_go_on(found.len(), &mut counted) {
                         return;
                     }
                     let (element, element_body) = list[e];
@@ -679,12 +687,7 @@ impl Search<'_> {
             |range, found| {
                 let mut counted = 0;
                 for first in range {
-                    if found.len() - counted >= BUDGET_STRIDE {
-                        if self.budget.spend(found.len() - counted) {
-                            return;
-                        }
-                        counted = found.len();
-                    } else if self.budget.exceeded() {
+                    if !self.budget.may_go_on(found.len(), &mut counted) {
                         return;
                     }
                     if !asks(list[first].1) {
