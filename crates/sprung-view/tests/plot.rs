@@ -374,3 +374,23 @@ fn sizes_out_of_range_are_refused() {
         assert!(error.to_string().contains("must be from"), "{error}");
     }
 }
+
+#[test]
+fn a_killed_run_is_plotted_from_its_unfinished_table() {
+    // A run killed before it finished leaves `diagnostics.csv.partial`,
+    // its last row perhaps cut in the middle: the folder is plotted from
+    // the whole rows, the cut one left out.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let run = dir.path().join("killed");
+    std::fs::create_dir(&run).expect("mkdir");
+    let text = sample(30);
+    let cut = text.len() - 7;
+    std::fs::write(run.join("diagnostics.csv.partial"), &text[..cut]).expect("write");
+    let table = plot::read_run(&run).expect("the whole rows");
+    assert_eq!(table.len(), 29);
+    let written = plot::plot_run(&run, None, &small()).expect("plots");
+    assert!(written.iter().any(|f| f.ends_with("energy.png")));
+    // A finished table is read as it is: a cut last row is an error there.
+    std::fs::write(run.join("diagnostics.csv"), &text[..cut]).expect("write");
+    assert!(plot::read_run(&run).is_err());
+}

@@ -25,7 +25,9 @@ fn run_dir(path: &Path) -> &Path {
 }
 
 /// Read the diagnostics of the run in `path` (its folder, or its
-/// `diagnostics.csv` itself).
+/// `diagnostics.csv` itself); in a folder without one, the rows of a run
+/// killed before it finished (`diagnostics.csv.partial`, up to its last
+/// whole line).
 pub fn read_run(path: &Path) -> Result<DiagnosticsTable, PlotError> {
     if path.is_file() {
         return DiagnosticsTable::read(path);
@@ -38,6 +40,11 @@ pub fn read_run(path: &Path) -> Result<DiagnosticsTable, PlotError> {
     }
     let file = path.join(DIAGNOSTICS);
     if !file.exists() {
+        // A run killed before it finished leaves its rows under this name.
+        let unfinished = path.join(format!("{DIAGNOSTICS}.partial"));
+        if unfinished.is_file() {
+            return DiagnosticsTable::read_unfinished(&unfinished);
+        }
         return Err(PlotError::NoDiagnostics {
             dir: path.to_path_buf(),
         });

@@ -30,10 +30,30 @@ pub struct DiagnosticsTable {
 impl DiagnosticsTable {
     /// Read and check the file at `path`.
     pub fn read(path: &Path) -> Result<Self, PlotError> {
-        let bytes = std::fs::read(path).map_err(|source| PlotError::Read {
+        Self::read_lines(path, false)
+    }
+
+    /// Read and check the table of a run that was killed before it
+    /// finished (`diagnostics.csv.partial`): its rows up to the last whole
+    /// line (the last may have been cut in the middle).
+    pub fn read_unfinished(path: &Path) -> Result<Self, PlotError> {
+        Self::read_lines(path, true)
+    }
+
+    /// Read the file at `path`, up to its last line break when
+    /// `whole_lines_only`.
+    fn read_lines(path: &Path, whole_lines_only: bool) -> Result<Self, PlotError> {
+        let mut bytes = std::fs::read(path).map_err(|source| PlotError::Read {
             path: path.to_path_buf(),
             source,
         })?;
+        if whole_lines_only {
+            let whole = bytes
+                .iter()
+                .rposition(|&b| b == b'\n')
+                .map_or(0, |end| end + 1);
+            bytes.truncate(whole);
+        }
         let text = String::from_utf8(bytes).map_err(|e| {
             let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
             PlotError::Malformed {
