@@ -124,6 +124,18 @@ pub struct RunOptions {
 
 fn main() -> ExitCode {
     interrupt::quiet_on_broken_pipe();
+    // `--threads` may stand before or after the command; given in both
+    // places, clap would keep the last without a word.
+    let given = std::env::args()
+        .take_while(|a| a != "--")
+        .filter(|a| a == "--threads" || a.starts_with("--threads="))
+        .count();
+    if given > 1 {
+        eprintln!(
+            "error: --threads is given {given} times (before and after the command): give it once"
+        );
+        return ExitCode::from(2);
+    }
     let cli = Cli::parse();
     if let Err(error) = sprung::parallel::configure(cli.threads.map(usize::from)) {
         eprintln!("error: {error}");

@@ -579,3 +579,22 @@ fn output_into_a_closed_pipe_ends_quietly() {
         );
     }
 }
+
+#[test]
+fn threads_given_before_and_after_the_command_is_refused() {
+    // Both places are accepted alone; given in both, one would win
+    // silently.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let output = sprung(
+        &["--threads", "1", "demo", "--list", "--threads=2"],
+        dir.path(),
+    );
+    assert_eq!(output.status.code(), Some(2));
+    assert!(text(&output.stderr).contains("--threads is given 2 times"));
+    for args in [
+        &["--threads", "1", "demo", "--list"][..],
+        &["demo", "--list", "--threads", "2"],
+    ] {
+        assert!(sprung(args, dir.path()).status.success(), "{args:?}");
+    }
+}
