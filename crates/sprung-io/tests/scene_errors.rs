@@ -725,6 +725,12 @@ fn bad_gravitation() {
             "non-negative",
         ],
     );
+    // A softening whose square overflows made every pull and energy zero.
+    assert_error(
+        &format!("{GOOD}[gravitation]\nsoftening = 1e308\n"),
+        11,
+        &["`gravitation.softening` = 1e308", "at most 1e100"],
+    );
     assert_error(
         &format!("{GOOD}[gravitation]\nconstant = 1.0\nsoftening = 0.1\nconstant_g = 1.0\n"),
         13,

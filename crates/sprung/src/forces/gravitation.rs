@@ -37,9 +37,16 @@ pub struct Gravitation {
     built_for: (Vec<bool>, usize),
 }
 
+/// The largest softening (m): its square, added to the squared distances,
+/// stays far from overflowing (at 1e308 it did, and every pull and energy
+/// came out zero).
+pub const MAX_SOFTENING: Real = 1e100;
+
 impl Gravitation {
     /// Gravitation with constant `constant` (N·m²/kg²) and softening
-    /// `softening` (m); refused unless both are finite and not negative.
+    /// `softening` (m); refused unless both are finite and not negative,
+    /// and the softening at most [`MAX_SOFTENING`] (its square must not
+    /// overflow).
     pub fn new(constant: Real, softening: Real) -> Result<Self, BuildError> {
         if !(constant.is_finite() && constant >= 0.0) {
             return Err(BuildError::OutOfRange {
@@ -48,11 +55,11 @@ impl Gravitation {
                 reason: "must be a finite, non-negative constant (N·m²/kg²)",
             });
         }
-        if !(softening.is_finite() && softening >= 0.0) {
+        if !(softening.is_finite() && (0.0..=MAX_SOFTENING).contains(&softening)) {
             return Err(BuildError::OutOfRange {
                 field: "gravitation.softening",
                 value: softening,
-                reason: "must be a finite, non-negative length (m)",
+                reason: "must be a non-negative length (m) of at most 1e100",
             });
         }
         Ok(Gravitation {
