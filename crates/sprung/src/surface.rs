@@ -45,6 +45,17 @@ pub fn vertex_normals(faces: &[[u32; 3]], position: &[Vec3]) -> Vec<Vec3> {
     normals
 }
 
+/// [`vertex_normals`] of unit length, for the exported frames: +z where
+/// there is none (a vertex on no face, or whose faces have no area), the
+/// same in every format.
+pub fn unit_vertex_normals(faces: &[[u32; 3]], position: &[Vec3]) -> Vec<Vec3> {
+    let mut normals = vertex_normals(faces, position);
+    for n in &mut normals {
+        *n = n.try_normalize().unwrap_or(Vec3::Z);
+    }
+    normals
+}
+
 /// Volume enclosed by triangles `faces` (counter-clockwise seen from
 /// outside) at `position`, by the divergence theorem (m³). Positive for an
 /// outward-oriented closed surface.
@@ -205,5 +216,33 @@ pub fn check_closed_loop(segments: &[[usize; 2]]) -> Result<(), SurfaceProblem> 
     match bad.first() {
         Some(&p) => Err(SurfaceProblem::BrokenLoop(p)),
         None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unit_normals_are_the_faces_and_plus_z_where_there_is_none() {
+        // A triangle in the xy-plane, counter-clockwise from +z, whose
+        // normal at each corner is +z; a triangle folded on x = 1 (no
+        // area: the normal of its corner 3 alone is none); a vertex on no
+        // face. Claim: unit normals, +z where there is none, so every
+        // exporter writes the same.
+        let position = [
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+            Vec3::new(4.0, 0.0, 0.0),
+            Vec3::new(5.0, 5.0, 5.0),
+        ];
+        let faces = [[0, 1, 2], [1, 3, 1]];
+        let normals = unit_vertex_normals(&faces, &position);
+        assert_eq!(normals, vec![Vec3::Z; 5]);
+        // Turned over: -z where a face is, +z still where none is.
+        let flipped = unit_vertex_normals(&[[0, 2, 1]], &position);
+        assert_eq!(flipped[..3], [-Vec3::Z; 3]);
+        assert_eq!(flipped[3..], [Vec3::Z; 2]);
     }
 }

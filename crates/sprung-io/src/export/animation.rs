@@ -21,7 +21,7 @@ use std::ops::Range;
 use std::path::Path;
 
 use gltf::json::{self, validation::Checked::Valid, validation::USize64};
-use sprung::surface::vertex_normals;
+use sprung::surface::unit_vertex_normals;
 use sprung::{Real, Vec3, World};
 
 use super::AtomicFile;
@@ -114,7 +114,7 @@ impl Animation {
     pub fn record(&mut self, world: &World) {
         let position = &world.particles.position;
         let faces = super::all_faces(world);
-        let all_normals = vertex_normals(&faces, position);
+        let all_normals = unit_vertex_normals(&faces, position);
         for track in &mut self.tracks {
             // Unit normals of a surface's particles.
             let normals: Vec<[f32; 3]> = if track.triangles.is_empty() {
@@ -122,7 +122,7 @@ impl Animation {
             } else {
                 all_normals[track.particles.clone()]
                     .iter()
-                    .map(|n| single(n.try_normalize().unwrap_or(Vec3::Y)))
+                    .map(|&n| single(n))
                     .collect()
             };
             let here = &position[track.particles.clone()];

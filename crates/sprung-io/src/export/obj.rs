@@ -7,7 +7,7 @@
 
 use std::fmt::Write;
 
-use sprung::surface::vertex_normals;
+use sprung::surface::unit_vertex_normals;
 use sprung::World;
 
 use super::Real;
@@ -16,7 +16,7 @@ use super::Real;
 pub(crate) fn render(world: &World) -> String {
     let position = &world.particles.position;
     let faces = super::all_faces(world);
-    let normals = vertex_normals(&faces, position);
+    let normals = unit_vertex_normals(&faces, position);
     let mut out = String::with_capacity(80 * position.len() + 32 * faces.len() + 64);
     // Writing to a String cannot fail; the results are ignored on purpose.
     let _ = writeln!(
@@ -31,7 +31,6 @@ pub(crate) fn render(world: &World) -> String {
     // One normal per vertex, unit length; +z for a vertex on no face (it
     // is in no `f` line).
     for n in &normals {
-        let n = n.try_normalize().unwrap_or(sprung::Vec3::Z);
         let _ = writeln!(out, "vn {} {} {}", Real(n.x), Real(n.y), Real(n.z));
     }
     let springs = &world.springs;
