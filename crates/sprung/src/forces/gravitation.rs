@@ -45,7 +45,7 @@ pub const MAX_SOFTENING: Real = 1e100;
 impl Gravitation {
     /// Gravitation with constant `constant` (N·m²/kg²) and softening
     /// `softening` (m); refused unless both are finite and not negative,
-    /// and the softening at most [`MAX_SOFTENING`] (its square must not
+    /// and the softening at most 1e100 m (its square must not
     /// overflow).
     pub fn new(constant: Real, softening: Real) -> Result<Self, BuildError> {
         if !(constant.is_finite() && constant >= 0.0) {
