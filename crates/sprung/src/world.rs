@@ -24,7 +24,7 @@ use crate::collide::{self, Collider, ContactConstraint};
 use crate::constrain::{
     ConstraintSettings, Muscle, Muscles, RigidBodies, RigidBody, RodReport, Rods,
 };
-use crate::contact::{BodyContacts, Contacts};
+use crate::contact::{BodyContacts, Contacts, TooManyPairs};
 use crate::error::{BlowUpReason, BuildError, StepError};
 use crate::forces::{
     self, AirDrag, ForceContext, ForceList, GasPressure, Gravity, JacobianScale, Jacobians,
@@ -579,29 +579,24 @@ impl World {
 
     /// The detect stage: the candidate contact pairs of this step.
     fn detect(&mut self, dt: Real) -> Result<(), StepError> {
-        let mut contacts = std::mem::take(&mut self.contacts);
-        let detected = self.detect_into(&mut contacts, dt);
-        self.contacts = contacts;
-        detected
+        detect_into(
+            &mut self.contacts,
+            &self.bodies,
+            &self.springs,
+            &self.particles,
+            dt,
+        )
+        .map_err(|too_many| self.too_many_contacts(too_many))
     }
 
-    /// The detect stage at the current state into `contacts` (the world's
-    /// own, or a copy), its refusal as the next step's error.
-    fn detect_into(&self, contacts: &mut Contacts, dt: Real) -> Result<(), StepError> {
-        contacts
-            .detect(
-                &self.bodies,
-                &self.springs,
-                &self.particles.position,
-                &self.particles.velocity,
-                dt,
-            )
-            .map_err(|too_many| StepError::TooManyContacts {
-                step: self.steps + 1,
-                time: self.time,
-                limit: too_many.limit,
-                thickness: contacts.settings.thickness,
-            })
+    /// A refusal of the detect stage as the next step's error.
+    fn too_many_contacts(&self, too_many: TooManyPairs) -> StepError {
+        StepError::TooManyContacts {
+            step: self.steps + 1,
+            time: self.time,
+            limit: too_many.limit,
+            thickness: self.contacts.settings.thickness,
+        }
     }
 
     fn integrate(&mut self, dt: Real) -> Result<StepReport, StepError> {
@@ -925,7 +920,14 @@ impl World {
     /// can refuse a scene before it starts.
     pub fn contact_pairs_now(&self, dt: Real) -> Result<usize, StepError> {
         let mut contacts = self.contacts.clone();
-        self.detect_into(&mut contacts, dt)?;
+        detect_into(
+            &mut contacts,
+            &self.bodies,
+            &self.springs,
+            &self.particles,
+            dt,
+        )
+        .map_err(|too_many| self.too_many_contacts(too_many))?;
         Ok(contacts.pairs.len())
     }
 
@@ -939,6 +941,24 @@ impl World {
             &self.contacts,
         )
     }
+}
+
+/// The detect stage at the state of `particles` into `contacts` (a
+/// world's own, or a copy of them).
+fn detect_into(
+    contacts: &mut Contacts,
+    bodies: &[Body],
+    springs: &Springs,
+    particles: &Particles,
+    dt: Real,
+) -> Result<(), TooManyPairs> {
+    contacts.detect(
+        bodies,
+        springs,
+        &particles.position,
+        &particles.velocity,
+        dt,
+    )
 }
 
 vectorised! {
