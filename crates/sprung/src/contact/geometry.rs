@@ -14,6 +14,7 @@ use crate::{Real, Vec3};
 /// Barycentric weights `[u, v, w]` (`u + v + w = 1`, each in `[0, 1]`) of
 /// the point of triangle `(a, b, c)` closest to `p`: `u a + v b + w c`.
 /// A degenerate triangle (zero area) gives the closest point on its edges.
+#[inline(always)]
 pub fn closest_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> [Real; 3] {
     let (ab, ac, ap) = (b - a, c - a, p - a);
     let (d1, d2) = (ab.dot(ap), ac.dot(ap));
@@ -75,6 +76,7 @@ pub fn closest_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> [Real; 3] {
 
 /// Parameter `t` in `[0, 1]` of the point of segment `a → b` closest to `p`
 /// (`a + t (b - a)`); 0 for a segment of zero length.
+#[inline(always)]
 pub fn closest_on_segment(p: Vec3, a: Vec3, b: Vec3) -> Real {
     let ab = b - a;
     let length = ab.length_squared();
@@ -88,6 +90,7 @@ pub fn closest_on_segment(p: Vec3, a: Vec3, b: Vec3) -> Real {
 /// Parameters `(s, t)` in `[0, 1]²` of the closest points `p1 + s (q1 -
 /// p1)` and `p2 + t (q2 - p2)` of two segments. Parallel segments give one
 /// of the closest pairs.
+#[inline(always)]
 pub fn closest_between_segments(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3) -> (Real, Real) {
     let (d1, d2, r) = (q1 - p1, q2 - p2, p1 - p2);
     let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));

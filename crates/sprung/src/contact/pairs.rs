@@ -39,6 +39,7 @@ impl PointTriangle {
     /// `thickness` (m) of the triangle in front of it, or anywhere behind
     /// it over its inside (a particle that got inside a closed surface is
     /// pushed out however deep).
+    #[inline(always)]
     pub(crate) fn touch(&self, position: &[Vec3], thickness: Real) -> Option<Touch> {
         let x = |i: u32| position[i as usize];
         let [a, b, c] = self.triangle;
@@ -97,6 +98,7 @@ impl PointSegment {
 
     /// The touch of the pair at `position` (m): as
     /// [`PointTriangle::touch`], in 2D.
+    #[inline(always)]
     pub(crate) fn touch(&self, position: &[Vec3], thickness: Real) -> Option<Touch> {
         let x = |i: u32| position[i as usize];
         let [a, b] = self.segment;
@@ -341,6 +343,7 @@ impl ContactPairs {
 
     /// [`ContactPairs::for_each_touch`] over the pairs `range` of `kind`
     /// (whole runs of a particle's pairs).
+    #[inline(always)]
     fn touches_in(
         &self,
         kind: Kind,
@@ -475,11 +478,7 @@ impl Touches {
         }
         let pieces = &self.pieces;
         let measure = |range: Range<usize>, found: &mut Vec<Touch>| {
-            for (kind, piece) in &pieces[range] {
-                pairs.touches_in(*kind, piece.clone(), position, thickness, &mut |t| {
-                    found.push(t)
-                });
-            }
+            measure_pieces(pairs, &pieces[range], position, thickness, found);
         };
         if pairs.len() <= parallel::CHUNK {
             // Too few to share: on the calling thread, into one buffer.
@@ -499,12 +498,34 @@ impl Touches {
     }
 }
 
+vectorised! {
+    /// The touches of `pieces` of `pairs` at `position` (m), into `found`:
+    /// the measure's loop, compiled for the widest vector unit (its
+    /// geometry inlined into it). The wider units shorten the scalar
+    /// arithmetic (three-operand instructions, fewer moves); no multiply
+    /// and add are fused, so the bits are those of the baseline build.
+    fn measure_pieces(
+        pairs: &ContactPairs,
+        pieces: &[(Kind, Range<usize>)],
+        position: &[Vec3],
+        thickness: Real,
+        found: &mut Vec<Touch>,
+    ) {
+        for (kind, piece) in pieces {
+            pairs.touches_in(*kind, piece.clone(), position, thickness, &mut |t| {
+                found.push(t)
+            });
+        }
+    }
+}
+
 /// How many pairs ahead [`closest_per_body`] asks for the particles' positions.
 const PREFETCH_PAIRS: usize = 16;
 
 /// Call `touch` with the deepest touch of each run of `pairs` that share a
 /// particle and a body (`key`), measured by `measure`. The detect stage
 /// writes a particle's pairs one after another, so a run is contiguous.
+#[inline(always)]
 fn closest_per_body<P>(
     pairs: &[P],
     key: impl Fn(&P) -> (u32, u32),
@@ -591,6 +612,7 @@ impl Touch {
 /// surface element whose normal (towards the side it is pushed to, any
 /// length) is `face`: along the face's normal where the closest point is
 /// inside the element; along the offset near its boundary, if in front.
+#[inline(always)]
 fn push(offset: Vec3, face: Vec3, interior: bool, thickness: Real) -> Option<(Vec3, Real)> {
     let face = face.normalize_or_zero();
     let (normal, distance) = if interior && face != Vec3::ZERO {
@@ -611,6 +633,7 @@ fn push(offset: Vec3, face: Vec3, interior: bool, thickness: Real) -> Option<(Ve
 /// along `direction` when the pair was found: along the gap while they are
 /// still on their sides, along `direction` (a negative separation) once
 /// they have passed each other.
+#[inline(always)]
 fn apart(gap: Vec3, direction: Vec3, thickness: Real) -> Option<(Vec3, Real)> {
     let along = gap.dot(direction);
     let (normal, separation) = if along > 0.0 {
