@@ -11,6 +11,7 @@ use crate::parallel;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
 use rayon::prelude::*;
+use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Marks a particle of no colliding body.
@@ -148,18 +149,40 @@ impl Spread {
         parallel::merge_chunks(
             len,
             Spread::NONE,
-            |range| {
-                range.fold(Spread::NONE, |s, i| {
-                    let v = vector(i);
-                    Spread {
-                        longest: s.longest.max(v.length_squared()),
-                        low: s.low.min(v),
-                        high: s.high.max(v),
-                    }
-                })
-            },
+            |range| range.fold(Spread::NONE, |s, i| s.with(vector(i))),
             Spread::merge,
         )
+    }
+
+    /// The spreads of `now` (m/s) and of its changes from `last` (m/s),
+    /// taken in parallel; `last` becomes `now` on the way (one pass over
+    /// both).
+    fn of_change(last: &mut [Vec3], now: &[Vec3]) -> [Spread; 2] {
+        let piece = |(last, now): (&mut [Vec3], &[Vec3])| {
+            let mut spreads = [Spread::NONE; 2];
+            for (last, &now) in last.iter_mut().zip(now) {
+                spreads = [spreads[0].with(now), spreads[1].with(now - *last)];
+                *last = now;
+            }
+            spreads
+        };
+        let both = |a: [Spread; 2], b: [Spread; 2]| [a[0].merge(b[0]), a[1].merge(b[1])];
+        if now.len() <= parallel::CHUNK {
+            return piece((last, now));
+        }
+        last.par_chunks_mut(parallel::CHUNK)
+            .zip(now.par_chunks(parallel::CHUNK))
+            .map(piece)
+            .reduce(|| [Spread::NONE; 2], both)
+    }
+
+    /// The spread of these vectors and `v`.
+    fn with(self, v: Vec3) -> Spread {
+        Spread {
+            longest: self.longest.max(v.length_squared()),
+            low: self.low.min(v),
+            high: self.high.max(v),
+        }
     }
 
     /// The spread of the vectors of both.
@@ -182,23 +205,31 @@ impl Spread {
 }
 
 impl Scratch {
-    /// Twice the [`Spread`] of the colliding particles' velocity changes
-    /// (m/s) since the last detect stage, scaled from that stage's step to
-    /// `dt` (s); `None` when there is no last stage for these particles.
-    /// Remembers `velocity` (m/s) and `dt` for the next stage.
-    fn velocity_change(&mut self, bodies: &[Body], velocity: &[Vec3], dt: Real) -> Option<Real> {
-        let last = &self.last_velocity;
-        let change = (last.len() == velocity.len() && self.last_dt > 0.0).then(|| {
-            let spread = colliding_runs(bodies)
-                .map(|run| Spread::of(run.len(), |i| velocity[run.start + i] - last[run.start + i]))
-                .fold(Spread::NONE, Spread::merge)
-                .bound();
-            2.0 * spread * dt / self.last_dt
-        });
-        self.last_velocity.clear();
-        self.last_velocity.extend_from_slice(velocity);
+    /// The [`Spread`] bound of the colliding particles' velocities (m/s),
+    /// and twice that of their changes (m/s) since the last detect stage,
+    /// scaled from that stage's step to `dt` (s): `None` when there is no
+    /// last stage for these particles. Remembers `velocity` (m/s) and `dt`
+    /// for the next stage. One pass over the velocities.
+    fn velocities(&mut self, bodies: &[Body], velocity: &[Vec3], dt: Real) -> (Real, Option<Real>) {
+        let last = &mut self.last_velocity;
+        let known = last.len() == velocity.len() && self.last_dt > 0.0;
+        if !known {
+            last.clear();
+            last.extend_from_slice(velocity);
+        }
+        // The colliding particles' velocities and changes, and the others'
+        // velocities remembered as they are.
+        let [speed, change] = colliding_runs(bodies)
+            .map(|run| Spread::of_change(&mut last[run.clone()], &velocity[run]))
+            .fold([Spread::NONE; 2], |a, b| {
+                [a[0].merge(b[0]), a[1].merge(b[1])]
+            });
+        for run in crate::body::runs_of(bodies, |b| !b.contact.collide) {
+            last[run.clone()].copy_from_slice(&velocity[run]);
+        }
+        let change = known.then(|| 2.0 * change.bound() * dt / self.last_dt);
         self.last_dt = dt;
-        change
+        (speed.bound(), change)
     }
 
     /// How much closer (m) two elements can have come since the last
@@ -319,12 +350,22 @@ impl Scratch {
         for (b, body) in bodies.iter().enumerate() {
             if colliding(body) {
                 let (grid, near, boxes) = (&self.grid, &mut self.near, &self.body_box);
+                let balls = &self.body_ball;
+                // Two particles within reach of each other lie in both
+                // bodies' balls, which then overlap by the reach (each
+                // ball holds its body's particles plus the reach).
+                let (centre, radius) = balls[b];
+                let balls_meet = |other: usize| {
+                    let (other_centre, other_radius) = balls[other];
+                    centre.distance(other_centre) < radius + other_radius
+                };
                 let start = near.len();
                 grid.query(boxes[b].0, boxes[b].1, |other| {
                     let other_body = &bodies[other as usize];
                     if other as usize != b
                         && colliding(other_body)
                         && overlap(boxes[b], boxes[other as usize])
+                        && balls_meet(other as usize)
                         && !near[start..].contains(&other)
                     {
                         near.push(other);
@@ -728,7 +769,7 @@ impl Search<'_> {
 
 /// The particles of colliding bodies, as runs of consecutive bodies'
 /// particles.
-fn colliding_runs(bodies: &[Body]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+fn colliding_runs(bodies: &[Body]) -> impl Iterator<Item = Range<usize>> + '_ {
     crate::body::runs_of(bodies, |b| b.contact.collide)
 }
 
@@ -769,12 +810,10 @@ impl Contacts {
             self.scratch.last_velocity.clear();
             return Ok(());
         }
-        // One common velocity for every colliding particle.
-        let speed = colliding_runs(bodies)
-            .map(|run| Spread::of(run.len(), |i| velocity[run.start + i]))
-            .fold(Spread::NONE, Spread::merge)
-            .bound()
-            .min(1e6);
+        // One common velocity for every colliding particle; how much the
+        // velocities changed since the last step.
+        let (speed, change) = self.scratch.velocities(bodies, velocity, dt);
+        let speed = speed.min(1e6);
         // Beyond a few thicknesses a step, contact cannot catch a particle
         // anyway (its force acts within the thickness); searching further
         // would only gather every particle of a blowing-up scene.
@@ -786,10 +825,7 @@ impl Contacts {
         // twice the last step's (scaled to this step), counted from a
         // common change, for each of two particles. Unknown (nothing is
         // passed over) on the first step or after the particles changed.
-        let bending = self
-            .scratch
-            .velocity_change(bodies, velocity, dt)
-            .map(|change| 4.0 * dt * change);
+        let bending = change.map(|change| 4.0 * dt * change);
         let covered = self
             .scratch
             .still_covers(bodies, position, closing, &self.settings);
