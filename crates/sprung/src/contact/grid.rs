@@ -1,12 +1,20 @@
-//! The broad phase: a uniform grid of cubic cells over space, stored as a
-//! hash table in compressed rows (counting sort), rebuilt once per step.
-//! An element (a triangle, an edge, a particle grown by the contact
-//! distance) is entered in every cell its bounding box overlaps; a query
-//! visits the elements of the cells a box overlaps. Building and querying
-//! cost time linear in the number of entries; the buffers are kept, so a
-//! step allocates nothing once they have grown. Entries keep the order of
-//! the elements, so the candidates come out in the same order whatever the
-//! hashing.
+//! The broad phase: a uniform grid of cubic cells over space, stored in
+//! compressed rows (counting sort), rebuilt once per step. An element (a
+//! triangle, an edge, a particle grown by the contact distance) is entered
+//! in every cell its bounding box overlaps; a query visits the elements of
+//! the cells a box overlaps. Building and querying cost time linear in the
+//! number of entries; the buffers are kept, so a step allocates nothing
+//! once they have grown. Entries keep the order of the elements, so the
+//! candidates come out in the same order whatever the layout.
+//!
+//! Two layouts, chosen at each build. Where the cells the elements cover
+//! fit in a box of at most four cells per entry (or 4096 cells: a pile of
+//! bodies, a cloth), every cell of that box has its row, in order along
+//! `z` within each `(x, y)` column: a query reads each column's cells as
+//! one slice, with no hashing and no other cell's entries. Elsewhere
+//! (bodies far apart, whose box of cells would be mostly empty) the cells
+//! are hashed into as many buckets as twice the entries. Both visit the
+//! same elements in the same order.
 
 use crate::{Real, Vec3};
 
@@ -16,21 +24,55 @@ use crate::{Real, Vec3};
 /// find them looks at every element instead).
 const MAX_CELLS_PER_AXIS: i64 = 16;
 
-/// A uniform grid over boxes, hashed into compressed rows.
+/// Most cells per entry for the dense layout (a box of cells this many
+/// times the entries or fewer, or [`DENSE_CELLS_MIN`]).
+const DENSE_CELLS_PER_ENTRY: usize = 4;
+
+/// The dense layout may always have this many cells.
+const DENSE_CELLS_MIN: usize = 4096;
+
+/// The box of cells of the dense layout: its lowest cell and its cells per
+/// axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Dense {
+    origin: [i64; 3],
+    size: [i64; 3],
+}
+
+impl Dense {
+    /// The row of cell `(i, j, k)` (inside the box).
+    fn row(&self, i: i64, j: i64, k: i64) -> u64 {
+        let [x, y, z] = [i - self.origin[0], j - self.origin[1], k - self.origin[2]];
+        ((x * self.size[1] + y) * self.size[2] + z) as u64
+    }
+
+    /// The part of the cells `lo..=hi` of an axis inside the box.
+    fn clamp(&self, axis: usize, lo: i64, hi: i64) -> (i64, i64) {
+        let last = self.origin[axis] + self.size[axis] - 1;
+        (lo.max(self.origin[axis]), hi.min(last))
+    }
+}
+
+/// A uniform grid over boxes, in compressed rows.
 #[derive(Debug, Clone, Default)]
 pub struct Grid {
     /// Cell side (m).
     cell: Real,
-    /// Per bucket, the start of its entries (one more than the buckets).
+    /// The dense layout's box of cells; `None`: hashed.
+    dense: Option<Dense>,
+    /// Per row (a bucket of hashed cells, or a cell of the dense layout),
+    /// the start of its entries (one more than the rows).
     start: Vec<u32>,
-    /// Entries `(cell key, element)`, grouped by bucket.
+    /// Entries `(cell key, element)`, grouped by row (the key is the
+    /// cell's hash, or its row in the dense layout).
     entries: Vec<(u64, u32)>,
     /// Scratch: the entries before grouping.
     scratch: Vec<(u64, u32)>,
     /// Scratch: the next free place of each bucket while filling.
     fill: Vec<u32>,
-    /// Per element, the lowest cell it was entered in.
+    /// Per element, the lowest cell it was entered in, and the highest.
     lowest: Vec<[i64; 3]>,
+    highest: Vec<[i64; 3]>,
 }
 
 /// The integer cell of coordinate `x` (m) in cells of side `cell`.
@@ -81,22 +123,46 @@ impl Grid {
         self.cell = cell;
         self.scratch.clear();
         self.lowest.clear();
-        for (element, (low, high)) in boxes.enumerate() {
+        self.highest.clear();
+        let (mut least, mut most) = ([i64::MAX; 3], [i64::MIN; 3]);
+        let mut entered = 0usize;
+        for (low, high) in boxes {
             let (lo, hi) = cell_range(low, high, cell);
             self.lowest.push(lo);
+            self.highest.push(hi);
+            entered += (0..3)
+                .map(|a| (hi[a] - lo[a] + 1) as usize)
+                .product::<usize>();
+            for axis in 0..3 {
+                least[axis] = least[axis].min(lo[axis]);
+                most[axis] = most[axis].max(hi[axis]);
+            }
+        }
+        self.dense = dense_box(least, most, entered);
+        let dense = self.dense;
+        for (element, (lo, hi)) in self.lowest.iter().zip(&self.highest).enumerate() {
             for i in lo[0]..=hi[0] {
                 for j in lo[1]..=hi[1] {
                     for k in lo[2]..=hi[2] {
-                        self.scratch.push((key(i, j, k), element as u32));
+                        let key = dense.map_or_else(|| key(i, j, k), |d| d.row(i, j, k));
+                        self.scratch.push((key, element as u32));
                     }
                 }
             }
         }
-        let buckets = (2 * self.scratch.len()).max(1).next_power_of_two();
+        let buckets = match dense {
+            Some(d) => d.size.iter().product::<i64>() as usize,
+            None => (2 * self.scratch.len()).max(1).next_power_of_two(),
+        };
+        // A dense layout's keys are its rows.
+        let bucket = |key: u64| match dense {
+            Some(_) => key as usize,
+            None => bucket(key, buckets),
+        };
         self.start.clear();
         self.start.resize(buckets + 1, 0);
         for &(key, _) in &self.scratch {
-            self.start[bucket(key, buckets) + 1] += 1;
+            self.start[bucket(key) + 1] += 1;
         }
         for b in 0..buckets {
             self.start[b + 1] += self.start[b];
@@ -107,7 +173,7 @@ impl Grid {
         self.fill.clear();
         self.fill.extend_from_slice(&self.start);
         for &(key, element) in &self.scratch {
-            let b = bucket(key, buckets);
+            let b = bucket(key);
             self.entries[self.fill[b] as usize] = (key, element);
             self.fill[b] += 1;
         }
@@ -162,6 +228,27 @@ impl Grid {
             return;
         }
         let (lo, hi) = cell_range(low, high, self.cell);
+        if let Some(dense) = self.dense {
+            let ([i0, j0, k0], [i1, j1, k1]) = (lo, hi);
+            let (i0, i1) = dense.clamp(0, i0, i1);
+            let (j0, j1) = dense.clamp(1, j0, j1);
+            let (k0, k1) = dense.clamp(2, k0, k1);
+            if k0 > k1 {
+                return;
+            }
+            for i in i0..=i1 {
+                for j in j0..=j1 {
+                    // The column's cells k0..=k1 are consecutive rows.
+                    let first = dense.row(i, j, k0);
+                    let rows = first as usize..first as usize + (k1 - k0) as usize + 1;
+                    let range = self.start[rows.start] as usize..self.start[rows.end] as usize;
+                    for &(row, element) in &self.entries[range] {
+                        visit([i, j, k0 + (row - first) as i64], element);
+                    }
+                }
+            }
+            return;
+        }
         for i in lo[0]..=hi[0] {
             for j in lo[1]..=hi[1] {
                 for k in lo[2]..=hi[2] {
@@ -184,9 +271,47 @@ fn bucket(key: u64, buckets: usize) -> usize {
     (key & (buckets as u64 - 1)) as usize
 }
 
+/// The dense layout over the cells `least..=most` holding `entered`
+/// entries, if its box of cells is small enough.
+fn dense_box(least: [i64; 3], most: [i64; 3], entered: usize) -> Option<Dense> {
+    let limit = entered
+        .saturating_mul(DENSE_CELLS_PER_ENTRY)
+        .max(DENSE_CELLS_MIN);
+    let mut size = [0i64; 3];
+    let mut cells = 1usize;
+    for axis in 0..3 {
+        // No element: no box.
+        let span = most[axis].checked_sub(least[axis])?.checked_add(1)?;
+        if span <= 0 {
+            return None;
+        }
+        size[axis] = span;
+        cells = cells.checked_mul(usize::try_from(span).ok()?)?;
+        if cells > limit {
+            return None;
+        }
+    }
+    Some(Dense {
+        origin: least,
+        size,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `boxes` as they are (a dense layout), and with one more box far
+    /// away, which makes the box of cells too large for it (hashed).
+    fn both_layouts(boxes: &[(Vec3, Vec3)], cell: Real) -> [Grid; 2] {
+        let far = (Vec3::splat(1e4), Vec3::splat(1e4 + cell));
+        let mut dense = Grid::default();
+        dense.build(cell, boxes.iter().copied());
+        let mut hashed = Grid::default();
+        hashed.build(cell, boxes.iter().copied().chain([far]));
+        assert!(dense.dense.is_some() && hashed.dense.is_none());
+        [dense, hashed]
+    }
 
     #[test]
     fn every_overlapping_box_is_found_and_far_ones_are_not() {
@@ -196,24 +321,61 @@ mod tests {
                 (low, low + Vec3::splat(0.25))
             })
             .collect();
-        let mut grid = Grid::default();
-        grid.build(0.25, boxes.iter().copied());
         let overlaps =
             |a: (Vec3, Vec3), b: (Vec3, Vec3)| a.0.cmple(b.1).all() && b.0.cmple(a.1).all();
-        for (q, query) in boxes.iter().enumerate() {
-            let mut found = vec![false; boxes.len()];
-            grid.query(query.0, query.1, |e| found[e as usize] = true);
-            for (e, other) in boxes.iter().enumerate() {
-                if overlaps(*query, *other) {
-                    assert!(found[e], "box {q} misses its overlap with {e}");
+        for grid in both_layouts(&boxes, 0.25) {
+            for (q, query) in boxes.iter().enumerate() {
+                let mut found = vec![false; boxes.len() + 1];
+                grid.query(query.0, query.1, |e| found[e as usize] = true);
+                for (e, other) in boxes.iter().enumerate() {
+                    if overlaps(*query, *other) {
+                        assert!(found[e], "box {q} misses its overlap with {e}");
+                    }
                 }
+                assert!(found[q]);
             }
-            assert!(found[q]);
+            // A box far from everything finds nothing, also beyond the
+            // dense layout's cells.
+            for at in [100.0, -100.0] {
+                let mut any = false;
+                grid.query(Vec3::splat(at), Vec3::splat(at + 0.1), |_| any = true);
+                assert!(!any);
+            }
         }
-        // A box far from everything finds nothing.
-        let mut any = false;
-        grid.query(Vec3::splat(100.0), Vec3::splat(100.1), |_| any = true);
-        assert!(!any);
+    }
+
+    #[test]
+    fn both_layouts_visit_the_same_elements_in_the_same_order() {
+        // Claim: the dense layout and the hashed one give every query the
+        // same sequence of (cell, element) visits, so the pairs found, and
+        // the bits of a run, do not depend on the layout. Boxes of many
+        // sizes, some spanning more cells than a query visits (capped),
+        // queried by each box and by boxes reaching past the grid.
+        let boxes: Vec<(Vec3, Vec3)> = (0..200)
+            .map(|i| {
+                let low = Vec3::new(
+                    (i % 13) as Real * 0.07 - 0.3,
+                    (i % 5) as Real * 0.11,
+                    (i % 7) as Real * -0.05,
+                );
+                let size = 0.02 + 0.3 * ((i * 37) % 11) as Real / 10.0;
+                (low, low + Vec3::new(size, 0.5 * size, 2.0 * size))
+            })
+            .collect();
+        let [dense, hashed] = both_layouts(&boxes, 0.05);
+        let mut queries = boxes.clone();
+        queries.push((Vec3::new(-0.35, -0.05, -0.4), Vec3::new(0.4, 0.5, 0.3)));
+        queries.push((Vec3::new(0.5, -0.2, -0.1), Vec3::new(0.6, 0.4, 0.0)));
+        for query in &queries {
+            let visits = |grid: &Grid| {
+                let mut seen = Vec::new();
+                grid.query_cells(query.0, query.1, |cell, e| seen.push((cell, e)));
+                seen
+            };
+            let seen = visits(&dense);
+            assert!(!seen.is_empty(), "query {query:?} found nothing");
+            assert_eq!(seen, visits(&hashed), "query {query:?}");
+        }
     }
 
     #[test]
@@ -229,18 +391,18 @@ mod tests {
                 (low, low + Vec3::new(0.3, 0.2, 0.25))
             })
             .collect();
-        let mut grid = Grid::default();
-        grid.build(0.1, boxes.iter().copied());
-        for query in &boxes {
-            let mut first_visits = Vec::new();
-            grid.query(query.0, query.1, |e| {
-                if !first_visits.contains(&e) {
-                    first_visits.push(e);
-                }
-            });
-            let mut once = Vec::new();
-            grid.query_once(query.0, query.1, |_| true, |e| once.push(e));
-            assert_eq!(once, first_visits);
+        for grid in both_layouts(&boxes, 0.1) {
+            for query in &boxes {
+                let mut first_visits = Vec::new();
+                grid.query(query.0, query.1, |e| {
+                    if !first_visits.contains(&e) {
+                        first_visits.push(e);
+                    }
+                });
+                let mut once = Vec::new();
+                grid.query_once(query.0, query.1, |_| true, |e| once.push(e));
+                assert_eq!(once, first_visits);
+            }
         }
     }
 }
