@@ -664,7 +664,7 @@ impl Search<'_> {
                     }
                     let (element, element_body) = list[e];
                     let (low, high) = built.boxes[e];
-                    let visit = |q: u32| {
+                    let mut visit = |q: u32| {
                         let particle = built.querying[q as usize];
                         let p = self.x(particle);
                         let inside = p.cmpge(low).all() && p.cmple(high).all();
@@ -676,10 +676,8 @@ impl Search<'_> {
                     // An element far larger than the cells (a ground of two
                     // triangles under a fine cloth) covers more cells than a
                     // query visits: it looks at every particle instead.
-                    if built.grid.capped(low, high) {
+                    if !built.grid.query_unless_capped(low, high, &mut visit) {
                         (0..built.querying.len() as u32).for_each(visit);
-                    } else {
-                        built.grid.query(low, high, visit);
                     }
                 }
                 self.budget.spend(found.len() - counted);
