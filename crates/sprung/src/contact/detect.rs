@@ -44,8 +44,8 @@ pub(super) struct Scratch {
     /// within reach of the body meets that ball (tighter than the box for
     /// a round body, whose box corners are far from it).
     body_ball: Vec<(Vec3, Real)>,
-    /// Per body, the bodies whose boxes overlap its own:
-    /// `near[near_start[b]..near_start[b + 1]]`.
+    /// Per body, the bodies whose boxes overlap its own and whose balls
+    /// meet its ball: `near[near_start[b]..near_start[b + 1]]`.
     near_start: Vec<u32>,
     near: Vec<u32>,
     /// The grown bounding box of each element being searched.
@@ -306,8 +306,8 @@ impl Scratch {
     }
 
     /// The broad phase between bodies: each colliding body's box (grown by
-    /// half of `reach`, m) and the other bodies it overlaps, from a grid of
-    /// body boxes.
+    /// half of `reach`, m) and ball, and the other bodies whose boxes it
+    /// overlaps and whose balls it meets, from a grid of body boxes.
     fn near_bodies(&mut self, bodies: &[Body], position: &[Vec3], reach: Real) {
         let colliding = |b: &Body| b.contact.collide && !b.particles.is_empty();
         self.body_box.clear();
@@ -351,9 +351,10 @@ impl Scratch {
             if colliding(body) {
                 let (grid, near, boxes) = (&self.grid, &mut self.near, &self.body_box);
                 let balls = &self.body_ball;
-                // Two particles within reach of each other lie in both
-                // bodies' balls, which then overlap by the reach (each
-                // ball holds its body's particles plus the reach).
+                // Each ball holds its body's particles, and so its
+                // elements, with the reach to spare: a point of one body
+                // within reach of a point of the other puts the centres
+                // closer than the two radii less the reach.
                 let (centre, radius) = balls[b];
                 let balls_meet = |other: usize| {
                     let (other_centre, other_radius) = balls[other];

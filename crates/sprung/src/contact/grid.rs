@@ -13,8 +13,12 @@
 //! `z` within each `(x, y)` column: a query reads each column's cells as
 //! one slice, with no hashing and no other cell's entries. Elsewhere
 //! (bodies far apart, whose box of cells would be mostly empty) the cells
-//! are hashed into as many buckets as twice the entries. Both visit the
-//! same elements in the same order.
+//! are hashed into buckets, a power of two at least twice the entries.
+//! Both visit the same elements in the same order (unless two cells' 64-bit
+//! hashes are equal, when the hashed layout also visits the other cell's
+//! elements: candidates that the callers' own tests turn away). An empty
+//! box (its low corner above its high one on some axis, or NaN) is
+//! entered in no cell.
 
 use crate::{Real, Vec3};
 
@@ -137,6 +141,12 @@ impl Grid {
         let (mut least, mut most) = ([i64::MAX; 3], [i64::MIN; 3]);
         let mut entered = 0usize;
         for (low, high) in boxes {
+            if !low.cmple(high).all() {
+                // Empty: no cell (the loops below run over none).
+                self.lowest.push([0; 3]);
+                self.highest.push([-1; 3]);
+                continue;
+            }
             let (lo, hi) = cell_range(low, high, cell);
             self.lowest.push(lo);
             self.highest.push(hi);
@@ -416,6 +426,42 @@ mod tests {
             let seen = visits(&dense);
             assert!(!seen.is_empty(), "query {query:?} found nothing");
             assert_eq!(seen, visits(&hashed), "query {query:?}");
+        }
+    }
+
+    #[test]
+    fn a_query_unless_capped_is_a_query_or_refuses_a_box_too_wide() {
+        // Claim: on both layouts, a box spanning at most 16 cells along
+        // each axis is visited exactly as `query` visits it, and a box
+        // spanning more is refused (false) with nothing visited, where
+        // `query` would have missed the elements beyond its 16 cells. An
+        // empty box is entered in no cell.
+        let cell = 0.1;
+        let mut boxes: Vec<(Vec3, Vec3)> = (0..40)
+            .map(|i| {
+                let low = Vec3::new((i % 10) as Real * 0.15, (i / 10) as Real * 0.2, 0.0);
+                (low, low + Vec3::splat(0.12))
+            })
+            .collect();
+        boxes.push((Vec3::splat(0.5), Vec3::splat(0.4)));
+        let empty = boxes.len() as u32 - 1;
+        for grid in both_layouts(&boxes, cell) {
+            for query in &boxes[..boxes.len() - 1] {
+                let (mut all, mut unless) = (Vec::new(), Vec::new());
+                grid.query(query.0, query.1, |e| all.push(e));
+                assert!(grid.query_unless_capped(query.0, query.1, |e| unless.push(e)));
+                assert_eq!(all, unless);
+                assert!(!all.contains(&empty));
+            }
+            // 15 cells wide: still a query; 17 wide: refused.
+            let low = Vec3::new(0.0, 0.0, 0.0);
+            let mut seen = 0;
+            let fits = (low, low + Vec3::new(1.45, 0.05, 0.05));
+            assert!(grid.query_unless_capped(fits.0, fits.1, |_| seen += 1));
+            assert!(seen > 0);
+            let wide = (low, low + Vec3::new(1.65, 0.05, 0.05));
+            assert!(!grid.query_unless_capped(wide.0, wide.1, |_| seen = 0));
+            assert!(seen > 0);
         }
     }
 
