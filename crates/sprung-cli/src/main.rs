@@ -36,8 +36,8 @@ struct Cli {
     #[command(subcommand)]
     command: Command,
     /// Threads the engine runs on (default: SPRUNG_THREADS, else every
-    /// core). Results are the same bits on any number.
-    #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..))]
+    /// core; at most 1024). Results are the same bits on any number.
+    #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..=sprung::parallel::MAX_THREADS as i64))]
     threads: Option<u16>,
 }
 

@@ -581,6 +581,29 @@ fn output_into_a_closed_pipe_ends_quietly() {
 }
 
 #[test]
+fn more_threads_than_the_engine_runs_on_are_refused_before_starting_them() {
+    // Tens of thousands of threads took minutes to start; a million made
+    // a worker panic and the process hang. Refused at once: the option as
+    // a usage error, the variable as an input error.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let output = sprung(&["--threads", "5000", "demo", "--list"], dir.path());
+    assert_eq!(output.status.code(), Some(2));
+    assert!(text(&output.stderr).contains("1..=1024"));
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_sprung"))
+        .args(["demo", "--list"])
+        .env("SPRUNG_THREADS", "1000000")
+        .current_dir(dir.path())
+        .output()
+        .expect("the sprung binary runs");
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        text(&output.stderr).contains("1000000 threads: at most 1024"),
+        "{}",
+        text(&output.stderr)
+    );
+}
+
+#[test]
 fn threads_given_before_and_after_the_command_is_refused() {
     // Both places are accepted alone; given in both, one would win
     // silently.

@@ -36,6 +36,16 @@ pub use schedule::{
 /// fixed-order sums.
 pub const CHUNK: usize = 4096;
 
+/// The most threads the engine runs on: far beyond any machine it is
+/// made for; each thread costs a stack, and tens of thousands of them took
+/// minutes to start.
+pub const MAX_THREADS: usize = 1024;
+
+/// Whether a start of the global pool has failed (rayon then has no
+/// global pool, and asking its size would panic).
+static GLOBAL_START_FAILED: std::sync::atomic::AtomicBool =
+    std::sync::atomic::AtomicBool::new(false);
+
 /// Why the engine's threads could not be set.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ThreadsError {
@@ -45,6 +55,9 @@ pub enum ThreadsError {
     /// A count of zero.
     #[error("--threads 0: the engine needs at least one thread")]
     Zero,
+    /// More threads than [`MAX_THREADS`].
+    #[error("{0} threads: at most {max} (more only start threads that wait)", max = MAX_THREADS)]
+    TooMany(usize),
     /// The pool could not be built (it was built already, with another size,
     /// or the system refused the threads).
     #[error("cannot run on {threads} threads: {reason}")]
@@ -72,18 +85,35 @@ pub fn configure(threads: Option<usize>) -> Result<usize, ThreadsError> {
             Err(_) => None,
         },
     };
+    use std::sync::atomic::Ordering::Relaxed;
     if let Some(threads) = threads {
+        if threads > MAX_THREADS {
+            return Err(ThreadsError::TooMany(threads));
+        }
         let built = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build_global();
         if let Err(error) = built {
-            if rayon::current_num_threads() != threads {
+            // Built already (by an earlier call): fine if of this size.
+            // The system refused the threads: rayon has no global pool.
+            let refused = GLOBAL_START_FAILED.load(Relaxed)
+                || !error.to_string().contains("already been initialized");
+            if refused {
+                GLOBAL_START_FAILED.store(true, Relaxed);
+            }
+            if refused || rayon::current_num_threads() != threads {
                 return Err(ThreadsError::Start {
                     threads,
                     reason: error.to_string(),
                 });
             }
         }
+    }
+    if GLOBAL_START_FAILED.load(Relaxed) {
+        return Err(ThreadsError::Start {
+            threads: threads.unwrap_or(0),
+            reason: "the system refused the threads".into(),
+        });
     }
     Ok(rayon::current_num_threads())
 }
@@ -111,6 +141,9 @@ impl Pool {
     pub fn new(threads: usize) -> Result<Self, ThreadsError> {
         if threads == 0 {
             return Err(ThreadsError::Zero);
+        }
+        if threads > MAX_THREADS {
+            return Err(ThreadsError::TooMany(threads));
         }
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
