@@ -854,17 +854,24 @@ impl World {
             kinetic: measure::kinetic_energy(&self.particles),
             ..Energies::default()
         };
-        self.forces.add_energy(&self.force_context(), &mut energies);
+        let contacts = self.contacts_now();
+        let context = self.frame(&contacts).context(
+            self.time,
+            &self.particles.position,
+            &self.particles.velocity,
+        );
+        self.forces.add_energy(&context, &mut energies);
         energies
     }
 
     /// Number of contact pairs between bodies closer than the contact
     /// thickness at the current state (among the candidates of the last
     /// detect stage that its allowance reaches: a state far from the last
-    /// step's, set by hand, may count fewer).
+    /// step's, set by hand, may count fewer; before the first step, among
+    /// the pairs a detect stage finds now).
     pub fn active_contacts(&self) -> usize {
         let mut count = 0;
-        self.contacts.pairs.for_each_touch(
+        self.contacts_now().pairs.for_each_touch(
             &self.particles.position,
             self.contacts.settings.thickness,
             |_| count += 1,
@@ -872,22 +879,53 @@ impl World {
         count
     }
 
+    /// The contact state to measure the current state with: the world's
+    /// own once a step has run (its last detect stage covers the state the
+    /// step ended in), and before the first step a detect stage run now on
+    /// a copy, so that the first row of a run counts the contacts bodies
+    /// start in (the world's own pairs are still empty then). The copy is
+    /// not kept: the first step searches as it would have.
+    fn contacts_now(&self) -> std::borrow::Cow<'_, Contacts> {
+        use std::borrow::Cow;
+        if self.steps > 0 || !self.contacts.settings.enabled {
+            return Cow::Borrowed(&self.contacts);
+        }
+        let mut contacts = self.contacts.clone();
+        // No step to cover: the search reaches twice the thickness, which
+        // holds every pair within it.
+        match detect_into(
+            &mut contacts,
+            &self.bodies,
+            &self.springs,
+            &self.particles,
+            Real::MIN_POSITIVE,
+        ) {
+            Ok(()) => Cow::Owned(contacts),
+            Err(_) => Cow::Borrowed(&self.contacts),
+        }
+    }
+
     /// The context forces see at the world's current state, to evaluate one
     /// force on its own.
     pub fn force_context(&self) -> ForceContext<'_> {
-        let frame = Frame {
-            colliders: &self.colliders,
-            contacts: &self.contacts,
-            springs: &self.springs,
-            bodies: &self.bodies,
-            mass: &self.particles.mass,
-            inverse_mass: &self.particles.inverse_mass,
-        };
-        frame.context(
+        self.frame(&self.contacts).context(
             self.time,
             &self.particles.position,
             &self.particles.velocity,
         )
+    }
+
+    /// What the forces see of the world, with `contacts` for its contact
+    /// state.
+    fn frame<'a>(&'a self, contacts: &'a Contacts) -> Frame<'a> {
+        Frame {
+            colliders: &self.colliders,
+            contacts,
+            springs: &self.springs,
+            bodies: &self.bodies,
+            mass: &self.particles.mass,
+            inverse_mass: &self.particles.inverse_mass,
+        }
     }
 
     /// Exact enclosed volume (m³), or area for a 2D body (m²), of body

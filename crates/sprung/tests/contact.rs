@@ -371,3 +371,39 @@ fn a_thickness_far_beyond_the_spacing_is_refused_before_anything_moves() {
     thin.contact_pairs_now(1e-4).expect("within the limit");
     thin.step(1e-4).expect("a step");
 }
+
+#[test]
+fn bodies_that_start_touching_count_their_contact_before_the_first_step() {
+    // Two gas balls at rest, the right one moved so that its leftmost
+    // particle lies 4 mm from the left one's rightmost (the icosphere is
+    // symmetric about its planes: the two are level), within the 10 mm
+    // thickness. Claim: the state before any step has a contact energy
+    // and touching pairs (the first row of a run: it had neither, as no
+    // detect stage had run), and they are those the first step then
+    // measures: one step of 1e-9 s moves the particles by well under
+    // 1e-12 m, so the energy changes by far less than a millionth.
+    let mut world = two_balls(IntegratorKind::SymplecticEuler, 0.0, 0.0);
+    let left = 0..162;
+    let x = |world: &World, i: usize| world.particles.position[i].x;
+    let rightmost = left
+        .clone()
+        .map(|i| x(&world, i))
+        .fold(Real::MIN, Real::max);
+    let leftmost = (162..324).map(|i| x(&world, i)).fold(Real::MAX, Real::min);
+    let shift = rightmost + 0.004 - leftmost;
+    for p in &mut world.particles.position[162..324] {
+        p.x += shift;
+    }
+    let before = world.energies().contact;
+    assert!(
+        before > 0.0,
+        "contact energy {before} before the first step"
+    );
+    assert!(world.active_contacts() > 0);
+    world.step(1e-9).expect("a step");
+    let after = world.energies().contact;
+    assert!(
+        (after - before).abs() <= 1e-6 * before,
+        "{before} J before the first step, {after} J after it"
+    );
+}
