@@ -85,13 +85,23 @@ fn demos_report_a_real_time_factor_each() {
 #[test]
 fn bench_refuses_impossible_options() {
     let dir = tempfile::tempdir().expect("temp dir");
+    // Malformed option values are usage errors (status 2), as for every
+    // command; a file that cannot be written an input error (1).
     for args in [
         &["bench", "--steps", "0"][..],
         &["bench", "--sizes", "1"],
-        &["bench", "--seconds", "-1"],
+        &["bench", "--size", "1"],
+        &["bench", "--seconds=-1"],
+        &["bench", "--seconds", "nan"],
         &["bench", "--only", "nonsense"],
+    ] {
+        let output = sprung(args, dir.path());
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        assert!(output.stdout.is_empty(), "{args:?} timed something");
+    }
+    for args in [
         // Refused before the timing, not after it.
-        &["bench", "--csv", "missing/table.csv"],
+        &["bench", "--csv", "missing/table.csv"][..],
         &["bench", "--csv", "."],
         &["bench", "--csv", ""],
         &["bench", "--csv", "newdir/"],

@@ -76,6 +76,16 @@ fn files_over_the_size_limit_are_refused_with_the_figures() {
         .output()
         .unwrap();
     assert!(output.status.success(), "{}", text(&output.stderr));
+    // A limit that is not a whole number is refused, not replaced by the
+    // default without a word.
+    let fresh = tempfile::tempdir().unwrap();
+    write(fresh.path(), "s.toml", scene);
+    refused_at_once(
+        fresh.path(),
+        &["run", "s.toml", "--out", "o"],
+        &[("SPRUNG_MAX_INPUT_BYTES", "1e3")],
+        "SPRUNG_MAX_INPUT_BYTES=\"1e3\": expected a whole number of bytes",
+    );
 }
 
 #[test]

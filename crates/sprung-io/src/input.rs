@@ -22,20 +22,25 @@ pub const DEFAULT_MAX_SCENE_BYTES: u64 = 16 << 20;
 /// bytes).
 pub const MAX_INPUT_VARIABLE: &str = "SPRUNG_MAX_INPUT_BYTES";
 
-/// The size limit (bytes): `SPRUNG_MAX_INPUT_BYTES` when it is a whole
-/// number, else `default`.
-pub fn max_input_bytes(default: u64) -> u64 {
-    std::env::var(MAX_INPUT_VARIABLE)
-        .ok()
-        .and_then(|v| v.trim().parse().ok())
-        .unwrap_or(default)
+/// The size limit (bytes): `SPRUNG_MAX_INPUT_BYTES` when it is set,
+/// else `default`; refused when it is set but not a whole number of bytes
+/// (a limit the user meant to set is not silently replaced).
+pub fn max_input_bytes(default: u64) -> std::io::Result<u64> {
+    match std::env::var(MAX_INPUT_VARIABLE) {
+        Err(_) => Ok(default),
+        Ok(text) => text.trim().parse().map_err(|_| {
+            std::io::Error::other(format!(
+                "{MAX_INPUT_VARIABLE}={text:?}: expected a whole number of bytes"
+            ))
+        }),
+    }
 }
 
 /// The bytes of the regular file at `path`, refused (with a sentence that
 /// says why and the figures) when it is not a regular file or is larger
 /// than [`max_input_bytes`] of `default` (bytes).
 pub fn read_input(path: &Path, default: u64) -> std::io::Result<Vec<u8>> {
-    let limit = max_input_bytes(default);
+    let limit = max_input_bytes(default)?;
     let metadata = std::fs::metadata(path)?;
     if !metadata.is_file() {
         return Err(std::io::Error::other(

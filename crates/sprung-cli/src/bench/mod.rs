@@ -27,23 +27,42 @@ use sprung_io::export::AtomicFile;
 use crate::run::CliError;
 use cases::{Case, Group};
 
+/// A cloth's particles along a side, for `--size` and `--sizes`: at
+/// least 2 (a malformed value is a usage error, status 2).
+fn cloth_side(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if n >= 2 => Ok(n),
+        Ok(n) => Err(format!("{n}: a cloth needs at least 2 particles a side")),
+        Err(e) => Err(format!("{text:?}: {e}")),
+    }
+}
+
+/// `--seconds`: a finite time, not negative (s).
+fn least_seconds(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(s) if s.is_finite() && s >= 0.0 => Ok(s),
+        Ok(s) => Err(format!("{s}: must be a finite, non-negative time")),
+        Err(e) => Err(format!("{text:?}: {e}")),
+    }
+}
+
 /// Options of `sprung bench`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct BenchArgs {
     /// Particles along each side of the cloth that every integrator steps.
-    #[arg(long, default_value_t = 128)]
+    #[arg(long, default_value_t = 128, value_parser = cloth_side)]
     size: usize,
     /// Steps timed per case and thread count (at least; a case runs on
     /// until --seconds have passed, and stops at 10 s or --seconds, the
     /// longer, after its first step: the slow implicit cases).
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..))]
     steps: u32,
     /// Least wall-clock time per case and thread count (s).
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 0.5, value_parser = least_seconds)]
     seconds: f64,
     /// Sizes of the cloths timed under symplectic Euler (particles along a
     /// side); the largest is also timed under RK4.
-    #[arg(long, value_delimiter = ',', default_values_t = [64, 128, 256, 512])]
+    #[arg(long, value_delimiter = ',', default_values_t = [64, 128, 256, 512], value_parser = cloth_side)]
     sizes: Vec<usize>,
     /// Only these groups of cases.
     #[arg(long, value_delimiter = ',', value_enum)]
@@ -146,20 +165,6 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 }
             )));
         }
-    }
-    if args.steps == 0 {
-        return Err(CliError::Input("--steps must be at least 1".into()));
-    }
-    if !(args.seconds.is_finite() && args.seconds >= 0.0) {
-        return Err(CliError::Input(format!(
-            "--seconds {}: must be a finite, non-negative time",
-            args.seconds
-        )));
-    }
-    if let Some(&bad) = args.sizes.iter().chain([&args.size]).find(|&&n| n < 2) {
-        return Err(CliError::Input(format!(
-            "--size/--sizes {bad}: a cloth needs at least 2 particles a side"
-        )));
     }
     let all = parallel::threads();
     let (steps, seconds) = if args.quick {
