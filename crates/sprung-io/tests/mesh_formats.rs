@@ -331,6 +331,15 @@ f -5 -4/ -3 -2 -1
     let weighted = parse_obj("v 2 4 6 2\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Path::new("w.obj"))
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(weighted[0].positions[0], [1.0, 2.0, 3.0]);
+    // A comment may follow a statement on its line.
+    let commented = parse_obj(
+        "v 0 0 0 # origin\nv 1 0 0\nv 0 1 0#tip\no tri # name\nf 1 2 3 # the face\n",
+        Path::new("c.obj"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(commented[0].name, "tri");
+    assert_eq!(commented[0].positions[2], [0.0, 1.0, 0.0]);
+    assert_eq!(commented[0].triangles, [[0, 1, 2]]);
 }
 
 #[test]

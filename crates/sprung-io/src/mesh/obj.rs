@@ -17,7 +17,8 @@
 //! checked line by line here: malformed `v`/`vt`/`vn`/`f` lines, coordinates
 //! that are not finite numbers and face indices out of range are reported
 //! with their line. Only the lines `tobj` needs (`v`, `vt`, `vn`, `f`, `o`,
-//! `g`) are then handed to it, trimmed.
+//! `g`) are then handed to it, trimmed, without comments (a `#` starts one
+//! anywhere on a line).
 
 use std::path::Path;
 
@@ -108,8 +109,12 @@ struct Counts {
 /// Checks the lines `tobj` will read and returns them, trimmed, one per
 /// line; an error comes with its 1-based line.
 fn prescan(text: &str) -> Result<String, (MeshErrorKind, usize)> {
+    // A `#` starts a comment to the end of its line, after a statement too
+    // (`f 1 2 3 # top`), as exporters write them.
+    let uncommented = |raw: &str| raw.split('#').next().unwrap_or("").to_owned();
     let mut total = Counts::default();
     for (_, raw) in lines(text) {
+        let raw = uncommented(raw);
         match raw.split_whitespace().next() {
             Some("v") => total.v += 1,
             Some("vt") => total.vt += 1,
@@ -121,6 +126,7 @@ fn prescan(text: &str) -> Result<String, (MeshErrorKind, usize)> {
     let mut faces = 0usize;
     let mut geometry = String::with_capacity(text.len());
     for (line, raw) in lines(text) {
+        let raw = uncommented(raw);
         let mut words = raw.split_whitespace();
         let keyword = words.next();
         let checked = match keyword {
