@@ -340,6 +340,30 @@ f -5 -4/ -3 -2 -1
     assert_eq!(commented[0].name, "tri");
     assert_eq!(commented[0].positions[2], [0.0, 1.0, 0.0]);
     assert_eq!(commented[0].triangles, [[0, 1, 2]]);
+    // The vertices keep the file's order, whatever order the faces use
+    // them in (as OFF and `.asc` keep theirs): `pinned` and `--probe`
+    // name the file's vertices. A tetrahedron whose first face starts at
+    // its last vertex.
+    let tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 4 3 2\nf 1 2 3\nf 1 4 2\nf 1 3 4\n";
+    let mesh = &parse_obj(tetra, Path::new("t.obj")).unwrap_or_else(|e| panic!("{e}"))[0];
+    assert_eq!(
+        mesh.positions,
+        [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0]
+        ]
+    );
+    assert_eq!(mesh.triangles, [[3, 2, 1], [0, 1, 2], [0, 3, 1], [0, 2, 3]]);
+    // A second object numbers its own vertices in the file's order too.
+    let two = format!("{tetra}o second\nv 5 5 5\nf 5 2 1\n");
+    let meshes = parse_obj(&two, Path::new("t.obj")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        meshes[1].positions,
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [5.0, 5.0, 5.0]]
+    );
+    assert_eq!(meshes[1].triangles, [[2, 1, 0]]);
 }
 
 #[test]

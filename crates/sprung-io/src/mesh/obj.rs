@@ -9,8 +9,9 @@
 //! stem. Objects without faces are dropped. A vertex's optional `w` divides
 //! its coordinates, as the format says. Texture coordinates, normals,
 //! materials, lines (`l`) and points (`p`) are ignored. Each object gets its
-//! own vertex list (the vertices its faces use, numbered in order of first
-//! use), so two objects never share a vertex.
+//! own vertex list (the vertices its faces use, in the file's order), so two
+//! objects never share a vertex, and an object of every vertex of the file
+//! numbers them as the file does (less one).
 //!
 //! `tobj` reports neither the line nor the object of a problem, and a few of
 //! its index computations can overflow on absurd input, so the text is first
@@ -32,7 +33,7 @@ use super::TriangleMesh;
 /// stem names faces that precede any `o`/`g` line.
 pub fn parse_obj(text: &str, file: &Path) -> Result<Vec<TriangleMesh>, MeshError> {
     require_content(text, file)?;
-    let geometry =
+    let (geometry, faces) =
         prescan(text).map_err(|(kind, line)| MeshError::new(file, kind).at_line(line))?;
 
     // `tobj` gains fields under its optional features: keep the update syntax
@@ -51,6 +52,7 @@ pub fn parse_obj(text: &str, file: &Path) -> Result<Vec<TriangleMesh>, MeshError
     .map_err(|e| MeshError::new(file, MeshErrorKind::Obj(e.to_string())))?;
 
     let mut meshes = Vec::new();
+    let mut object_faces = faces.iter();
     for model in models {
         let mesh = model.mesh;
         let triangles: Vec<[usize; 3]> = mesh
@@ -86,17 +88,24 @@ pub fn parse_obj(text: &str, file: &Path) -> Result<Vec<TriangleMesh>, MeshError
             )
             .in_object(&name));
         }
-        meshes.push(TriangleMesh {
+        let mut mesh = TriangleMesh {
             name,
             positions,
             triangles,
-        });
+        };
+        if let Some(faces) = object_faces.next() {
+            in_file_order(&mut mesh, faces);
+        }
+        meshes.push(mesh);
     }
     if meshes.is_empty() {
         return Err(MeshError::new(file, MeshErrorKind::NoMesh));
     }
     Ok(meshes)
 }
+
+/// An object's faces, each its vertices in the file's numbering (0-based).
+type ObjectFaces = Vec<Vec<i64>>;
 
 /// Element counts of the whole file, or seen so far.
 #[derive(Default, Clone, Copy)]
@@ -108,7 +117,7 @@ struct Counts {
 
 /// Checks the lines `tobj` will read and returns them, trimmed, one per
 /// line; an error comes with its 1-based line.
-fn prescan(text: &str) -> Result<String, (MeshErrorKind, usize)> {
+fn prescan(text: &str) -> Result<(String, Vec<ObjectFaces>), (MeshErrorKind, usize)> {
     // A `#` starts a comment to the end of its line, after a statement too
     // (`f 1 2 3 # top`), as exporters write them.
     let uncommented = |raw: &str| raw.split('#').next().unwrap_or("").to_owned();
@@ -125,6 +134,9 @@ fn prescan(text: &str) -> Result<String, (MeshErrorKind, usize)> {
     let mut seen = Counts::default();
     let mut faces = 0usize;
     let mut geometry = String::with_capacity(text.len());
+    // Per object (a new one at each `o` or `g` line), its faces' vertices
+    // in the file's numbering (0-based).
+    let mut objects: Vec<ObjectFaces> = vec![Vec::new()];
     for (line, raw) in lines(text) {
         let raw = uncommented(raw);
         let mut words = raw.split_whitespace();
@@ -144,16 +156,65 @@ fn prescan(text: &str) -> Result<String, (MeshErrorKind, usize)> {
             }
             Some("f") => {
                 faces += 1;
-                face(words, faces - 1, seen, total)
+                face(words, faces - 1, seen, total).map(|vertices| {
+                    if let Some(object) = objects.last_mut() {
+                        object.push(vertices);
+                    }
+                })
             }
-            Some("o" | "g") => Ok(()),
+            Some("o" | "g") => {
+                objects.push(Vec::new());
+                Ok(())
+            }
             _ => continue,
         };
         checked.map_err(|kind| (kind, line))?;
         geometry.push_str(raw.trim());
         geometry.push('\n');
     }
-    Ok(geometry)
+    objects.retain(|faces| !faces.is_empty());
+    Ok((geometry, objects))
+}
+
+/// Renumber `mesh`'s vertices (numbered by `tobj` in order of first use by
+/// its faces) in the file's order, given its faces in the file's numbering:
+/// a mesh of every vertex of the file then has them as the file lists
+/// them, and `pinned`, `--probe` and the messages use the file's numbers
+/// (less one). Left as it is if the faces do not give back `tobj`'s
+/// triangles (a reading this does not foresee).
+fn in_file_order(mesh: &mut TriangleMesh, faces: &[Vec<i64>]) {
+    // The file's vertex of each of tobj's, in order of first use.
+    let mut first_used: Vec<i64> = Vec::with_capacity(mesh.positions.len());
+    let mut local = std::collections::HashMap::new();
+    let mut triangles = Vec::with_capacity(mesh.triangles.len());
+    for face in faces {
+        let mut corner = |v: i64| {
+            *local.entry(v).or_insert_with(|| {
+                first_used.push(v);
+                first_used.len() - 1
+            })
+        };
+        let first = corner(face[0]);
+        let mut last = corner(face[1]);
+        for &v in &face[2..] {
+            let next = corner(v);
+            triangles.push([first, last, next]);
+            last = next;
+        }
+    }
+    if triangles != mesh.triangles || first_used.len() != mesh.positions.len() {
+        return;
+    }
+    let mut order: Vec<usize> = (0..first_used.len()).collect();
+    order.sort_by_key(|&k| first_used[k]);
+    let mut renumbered = vec![0; order.len()];
+    for (new, &old) in order.iter().enumerate() {
+        renumbered[old] = new;
+    }
+    mesh.positions = order.iter().map(|&old| mesh.positions[old]).collect();
+    for triangle in &mut mesh.triangles {
+        *triangle = triangle.map(|old| renumbered[old]);
+    }
 }
 
 /// `v x y z [w]` or `v x y z r g b`.
@@ -220,7 +281,7 @@ fn face(
     face: usize,
     seen: Counts,
     total: Counts,
-) -> Result<(), MeshErrorKind> {
+) -> Result<Vec<i64>, MeshErrorKind> {
     let mut corners = 0;
     // The corners' vertices (0-based), to refuse one listed twice.
     let mut vertices: Vec<i64> = Vec::new();
@@ -277,7 +338,7 @@ fn face(
             "face {face} has {corners} corners; a face needs at least 3"
         )));
     }
-    Ok(())
+    Ok(vertices)
 }
 
 /// One OBJ index: 1-based, or negative counting back from the last element
