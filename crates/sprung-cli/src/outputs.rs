@@ -346,6 +346,12 @@ fn prepare_output(out: &Path, frames: &Path, first_frame: usize) -> Result<(), C
     let fail = |e: std::io::Error, dir: &Path| {
         CliError::Io(format!("cannot create {}: {e}", dir.display()))
     };
+    if out.exists() && !out.is_dir() {
+        return Err(CliError::Io(format!(
+            "--out {}: is a file, not a folder; give a folder for the outputs",
+            out.display()
+        )));
+    }
     std::fs::create_dir_all(out).map_err(|e| fail(e, out))?;
     let remove = |path: &Path| match std::fs::remove_file(path) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(CliError::Io(format!(

@@ -581,6 +581,24 @@ fn output_into_a_closed_pipe_ends_quietly() {
 }
 
 #[test]
+fn an_output_folder_that_is_a_file_is_refused_in_those_words() {
+    // It said "cannot create out: File exists"; the file is left as it is.
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(dir.path().join("out"), "mine").expect("a file");
+    let output = sprung(&["demo", "--out", "out", "--steps", "2"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        text(&output.stderr).contains("--out out: is a file, not a folder"),
+        "{}",
+        text(&output.stderr)
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("out")).expect("still there"),
+        "mine"
+    );
+}
+
+#[test]
 fn more_threads_than_the_engine_runs_on_are_refused_before_starting_them() {
     // Tens of thousands of threads took minutes to start; a million made
     // a worker panic and the process hang. Refused at once: the option as

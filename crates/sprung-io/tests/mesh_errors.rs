@@ -375,6 +375,16 @@ fn stl_errors() {
         "b.stl: not an ASCII STL (it does not start with `solid`), and as binary STL its \
          header declares 1 triangles, which needs 134 bytes, but the file has 127 (truncated?)"
     );
+    // Longer than the count needs: not called truncated.
+    let mut padded = binary.clone();
+    padded.extend([0u8; 4]);
+    let err = error_of_bytes(&padded, "b.stl");
+    assert!(
+        err.to_string().ends_with(
+            "which needs 134 bytes, but the file has 138 (bytes after the last triangle, or a wrong count?)"
+        ),
+        "{err}"
+    );
     let mut nan = binary.clone();
     nan[84 + 12 + 16..84 + 12 + 20].copy_from_slice(&f32::NAN.to_le_bytes());
     let err = error_of_bytes(&nan, "b.stl");

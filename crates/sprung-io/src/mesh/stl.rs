@@ -56,12 +56,19 @@ pub fn parse_stl(bytes: &[u8], file: &Path) -> Result<Vec<TriangleMesh>, MeshErr
         return parse_ascii(decode(bytes, file)?, file);
     }
     let detail = match read_u32(bytes, 80) {
-        Some(n) => format!(
-            "as binary STL its header declares {n} triangles, which needs {} bytes, \
-             but the file has {} (truncated?)",
-            84 + 50 * u64::from(n),
-            bytes.len()
-        ),
+        Some(n) => {
+            let needs = 84 + 50 * u64::from(n);
+            let has = bytes.len() as u64;
+            let why = if has < needs {
+                "truncated?"
+            } else {
+                "bytes after the last triangle, or a wrong count?"
+            };
+            format!(
+                "as binary STL its header declares {n} triangles, which needs {needs} bytes, \
+                 but the file has {has} ({why})"
+            )
+        }
         None => format!(
             "the file has {} bytes, less than the 84 of a binary STL header",
             bytes.len()
