@@ -890,19 +890,10 @@ impl World {
         if self.steps > 0 || !self.contacts.settings.enabled {
             return Cow::Borrowed(&self.contacts);
         }
-        let mut contacts = self.contacts.clone();
         // No step to cover: the search reaches twice the thickness, which
         // holds every pair within it.
-        match detect_into(
-            &mut contacts,
-            &self.bodies,
-            &self.springs,
-            &self.particles,
-            Real::MIN_POSITIVE,
-        ) {
-            Ok(()) => Cow::Owned(contacts),
-            Err(_) => Cow::Borrowed(&self.contacts),
-        }
+        self.detected_copy(Real::MIN_POSITIVE)
+            .map_or(Cow::Borrowed(&self.contacts), Cow::Owned)
     }
 
     /// The context forces see at the world's current state, to evaluate one
@@ -957,6 +948,14 @@ impl World {
     /// refused for them ([`StepError::TooManyContacts`]), so that a run
     /// can refuse a scene before it starts.
     pub fn contact_pairs_now(&self, dt: Real) -> Result<usize, StepError> {
+        self.detected_copy(dt)
+            .map(|contacts| contacts.pairs.len())
+            .map_err(|too_many| self.too_many_contacts(too_many))
+    }
+
+    /// A copy of the contact state after a detect stage for a step of `dt`
+    /// (s) from the current state; the world's own is left as it is.
+    fn detected_copy(&self, dt: Real) -> Result<Contacts, TooManyPairs> {
         let mut contacts = self.contacts.clone();
         detect_into(
             &mut contacts,
@@ -964,9 +963,8 @@ impl World {
             &self.springs,
             &self.particles,
             dt,
-        )
-        .map_err(|too_many| self.too_many_contacts(too_many))?;
-        Ok(contacts.pairs.len())
+        )?;
+        Ok(contacts)
     }
 
     /// A stable time step for the explicit methods (s); see

@@ -41,10 +41,10 @@ pub const CHUNK: usize = 4096;
 /// minutes to start.
 pub const MAX_THREADS: usize = 1024;
 
-/// Whether a start of the global pool has failed (rayon then has no
-/// global pool, and asking its size would panic).
-static GLOBAL_START_FAILED: std::sync::atomic::AtomicBool =
-    std::sync::atomic::AtomicBool::new(false);
+/// The threads a failed start of the global pool asked for (0: none
+/// failed). Rayon then has no global pool, and asking its size would panic.
+static GLOBAL_START_REFUSED: std::sync::atomic::AtomicUsize =
+    std::sync::atomic::AtomicUsize::new(0);
 
 /// Why the engine's threads could not be set.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -96,10 +96,10 @@ pub fn configure(threads: Option<usize>) -> Result<usize, ThreadsError> {
         if let Err(error) = built {
             // Built already (by an earlier call): fine if of this size.
             // The system refused the threads: rayon has no global pool.
-            let refused = GLOBAL_START_FAILED.load(Relaxed)
+            let refused = GLOBAL_START_REFUSED.load(Relaxed) != 0
                 || !error.to_string().contains("already been initialized");
             if refused {
-                GLOBAL_START_FAILED.store(true, Relaxed);
+                let _ = GLOBAL_START_REFUSED.compare_exchange(0, threads, Relaxed, Relaxed);
             }
             if refused || rayon::current_num_threads() != threads {
                 return Err(ThreadsError::Start {
@@ -109,11 +109,14 @@ pub fn configure(threads: Option<usize>) -> Result<usize, ThreadsError> {
             }
         }
     }
-    if GLOBAL_START_FAILED.load(Relaxed) {
-        return Err(ThreadsError::Start {
-            threads: threads.unwrap_or(0),
-            reason: "the system refused the threads".into(),
-        });
+    match GLOBAL_START_REFUSED.load(Relaxed) {
+        0 => {}
+        refused => {
+            return Err(ThreadsError::Start {
+                threads: refused,
+                reason: "the system refused the threads".into(),
+            })
+        }
     }
     Ok(rayon::current_num_threads())
 }
