@@ -4,7 +4,9 @@
 use super::pairs::{Touch, Touches};
 use crate::forces::{Force, ForceContext, JacobianScale, Linearization};
 use crate::measure::Energies;
+use crate::parallel;
 use crate::{Real, Vec3};
+use rayon::prelude::*;
 
 /// The penalty forces of the candidate contact pairs of the step (reads
 /// `ForceContext::contacts`).
@@ -24,8 +26,9 @@ pub struct BodyContacts {
     active: Vec<Active>,
     /// The touches of the last evaluation (kept for their buffers).
     touches: Touches,
-    /// The normal force (N) of each touch at the last evaluation.
-    pushes: Vec<Real>,
+    /// The normal force (N) of each touch at the last evaluation, piece by
+    /// piece of the touches.
+    pushes: Vec<Vec<Real>>,
 }
 
 /// A pushing pair at the linearisation state.
@@ -46,8 +49,10 @@ impl BodyContacts {
 
     /// The touches of the last evaluation, with the normal force (N) each
     /// pushed with.
-    pub(crate) fn pushes(&self) -> impl Iterator<Item = (&Touch, Real)> {
-        self.touches.iter().zip(self.pushes.iter().copied())
+    pub(crate) fn pushes(&self) -> impl Iterator<Item = (&Touch, Real)> + Clone {
+        self.touches
+            .iter()
+            .zip(self.pushes.iter().flatten().copied())
     }
 }
 
@@ -70,13 +75,43 @@ impl Force for BodyContacts {
             context.position,
             contacts.settings.thickness,
         );
-        self.pushes.clear();
-        for touch in self.touches.iter() {
-            let (k, c) = coefficients(context, touch);
-            let normal_speed = touch.relative(context.velocity).dot(touch.normal);
-            let push = (k * touch.depth - c * normal_speed).max(0.0);
-            touch.apply(push * touch.normal, force);
-            self.pushes.push(push);
+        // The normal forces, piece by piece of the touches, in parallel
+        // when there are many.
+        let pieces = self.touches.pieces();
+        self.pushes.resize_with(pieces.len(), Vec::new);
+        let normal_forces = |(touches, pushes): (&Vec<Touch>, &mut Vec<Real>)| {
+            pushes.clear();
+            pushes.extend(touches.iter().map(|touch| {
+                let (k, c) = coefficients(context, touch);
+                let normal_speed = touch.relative(context.velocity).dot(touch.normal);
+                (k * touch.depth - c * normal_speed).max(0.0)
+            }));
+        };
+        let many = self.touches.len() > parallel::CHUNK;
+        if many {
+            pieces
+                .par_iter()
+                .zip(self.pushes.par_iter_mut())
+                .for_each(normal_forces);
+        } else {
+            pieces
+                .iter()
+                .zip(self.pushes.iter_mut())
+                .for_each(normal_forces);
+        }
+        // Added in the touches' order: a random scatter, each thread into
+        // its own share of the particles when there are many.
+        let pushes = self.pushes();
+        if many {
+            parallel::for_each_share(force, |first, share| {
+                for (touch, push) in pushes.clone() {
+                    touch.apply_within(push * touch.normal, first, share);
+                }
+            });
+        } else {
+            for (touch, push) in pushes {
+                touch.apply(push * touch.normal, force);
+            }
         }
     }
 

@@ -493,8 +493,19 @@ impl Touches {
     }
 
     /// The touches of the last measure, in order.
-    pub fn iter(&self) -> impl Iterator<Item = &Touch> {
+    pub fn iter(&self) -> impl Iterator<Item = &Touch> + Clone {
         self.found.iter().flatten()
+    }
+
+    /// The touches of the last measure, in order, as pieces of a thread
+    /// each (some may be empty).
+    pub fn pieces(&self) -> &[Vec<Touch>] {
+        &self.found
+    }
+
+    /// How many touches the last measure found.
+    pub fn len(&self) -> usize {
+        self.found.iter().map(Vec::len).sum()
     }
 }
 
@@ -604,6 +615,19 @@ impl Touch {
     pub fn apply(&self, force: Vec3, out: &mut [Vec3]) {
         for k in 0..self.count {
             out[self.particles[k] as usize] += self.weights[k] * force;
+        }
+    }
+
+    /// [`Touch::apply`] to the particles of `share` only, the entries of
+    /// particles `first..` (a thread's share of a parallel scatter,
+    /// [`crate::parallel::for_each_share`]).
+    #[inline(always)]
+    pub fn apply_within(&self, force: Vec3, first: usize, share: &mut [Vec3]) {
+        for k in 0..self.count {
+            let into = (self.particles[k] as usize).wrapping_sub(first);
+            if let Some(entry) = share.get_mut(into) {
+                *entry += self.weights[k] * force;
+            }
         }
     }
 }

@@ -293,6 +293,26 @@ pub fn collect_chunks<T: Send>(
     }
 }
 
+/// Call `f(first, share)` on consecutive shares of `out`, one per thread,
+/// in parallel; `first` is the index of the share's first entry. For a
+/// scatter whose items are few beside the entries they add into (the
+/// contacts' forces): every thread reads all the items in order and adds
+/// those that land in its share, so each entry receives its additions in
+/// the items' order, the same bits whatever the number of threads. With
+/// one thread, or at most [`CHUNK`] entries, one share on the calling
+/// thread.
+pub fn for_each_share<T: Send>(out: &mut [T], f: impl Fn(usize, &mut [T]) + Sync) {
+    let threads = threads();
+    if threads <= 1 || out.len() <= CHUNK {
+        f(0, out);
+        return;
+    }
+    let share = out.len().div_ceil(threads);
+    out.par_chunks_mut(share)
+        .enumerate()
+        .for_each(|(i, entries)| f(i * share, entries));
+}
+
 /// Slices of equal length (one, or a tuple of them) that can be cut at an
 /// index into two sets of slices; [`for_each_span`] hands the pieces to
 /// threads.
@@ -415,6 +435,39 @@ pub fn for_each_span<S: SplitMut>(slices: S, f: impl Fn(usize, S) + Sync) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_shares_cover_every_entry_once_whatever_the_threads() {
+        // Claim: `for_each_share` hands out consecutive shares that cover
+        // `out` exactly once, each with the index of its first entry: on 1,
+        // 2, 3 and 7 threads every entry of 10 007 (not a multiple of any
+        // of them) is written once with its own index, and a slice of at
+        // most `CHUNK` entries is one share.
+        for threads in [1, 2, 3, 7] {
+            let mut out = vec![(0, 0); 10_007];
+            Pool::new(threads).expect("a pool").install(|| {
+                for_each_share(&mut out, |first, share| {
+                    for (k, entry) in share.iter_mut().enumerate() {
+                        *entry = (entry.0 + 1, first + k);
+                    }
+                });
+            });
+            assert!(
+                out.iter().enumerate().all(|(i, &e)| e == (1, i)),
+                "{threads} threads"
+            );
+            let mut shares = 0;
+            let mut short = vec![0; CHUNK];
+            Pool::new(threads).expect("a pool").install(|| {
+                let count = std::sync::atomic::AtomicUsize::new(0);
+                for_each_share(&mut short, |_, _| {
+                    count.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                });
+                shares = count.into_inner();
+            });
+            assert_eq!(shares, 1);
+        }
+    }
 
     #[test]
     fn each_item_gets_its_own_entries_in_parallel_or_not() {
