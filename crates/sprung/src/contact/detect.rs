@@ -1,6 +1,6 @@
 //! The detect stage: candidate pairs for one step from a uniform grid.
 
-use super::buckets::CLEARANCE_BUCKETS;
+use super::buckets::{Buckets, ByParticle, CLEARANCE_BUCKETS};
 use super::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
 use super::grid::Grid;
 use super::links::Links;
@@ -50,8 +50,8 @@ pub(super) struct Scratch {
     near: Vec<u32>,
     /// The grown bounding box of each element being searched.
     boxes: Vec<(Vec3, Vec3)>,
-    /// Per particle, where its pairs start while they are put in order.
-    run_start: Vec<u32>,
+    /// Buffers to put the particle–element pairs in order.
+    by_particle: ByParticle,
     /// Positions at the last search (empty before any).
     searched_at: Vec<Vec3>,
     /// The margin (m) beyond the thickness that search covered.
@@ -499,35 +499,9 @@ impl Scratch {
 /// Elements a thread takes at a time in the pair search.
 const QUERY_CHUNK: usize = 1024;
 
-/// Put the pairs found in `chunks` (in their order) into `out`, grouped by
-/// their particle (`particle_of`, below `particles`) in ascending order, by
-/// a counting sort: a particle's pairs keep the order they were found in.
-fn by_particle<P: Copy>(
-    chunks: &[Vec<P>],
-    particle_of: fn(&P) -> u32,
-    particles: usize,
-    run_start: &mut Vec<u32>,
-    out: &mut Vec<P>,
-) {
-    out.clear();
-    let Some(&filler) = chunks.iter().find_map(|c| c.first()) else {
-        return;
-    };
-    run_start.clear();
-    run_start.resize(particles + 1, 0);
-    for pair in chunks.iter().flatten() {
-        run_start[particle_of(pair) as usize + 1] += 1;
-    }
-    for i in 0..particles {
-        run_start[i + 1] += run_start[i];
-    }
-    out.resize(run_start[particles] as usize, filler);
-    for pair in chunks.iter().flatten() {
-        let next = &mut run_start[particle_of(pair) as usize];
-        out[*next as usize] = *pair;
-        *next += 1;
-    }
-}
+/// What a particle–element pair is sorted by: its particle, and its
+/// clearance (m).
+type SortKeys<P> = (fn(&P) -> u32, fn(&P) -> Real);
 
 /// Picks a list of elements (with their bodies) out of the buffers.
 type Elements<const N: usize> = fn(&Scratch) -> &[([u32; N], u32)];
@@ -537,6 +511,8 @@ struct Search<'a> {
     bodies: &'a [Body],
     position: &'a [Vec3],
     reach: Real,
+    /// Width (m) of the buckets of clearance the pairs are put in.
+    bucket_width: Real,
     links: &'a Links,
     budget: &'a Budget,
 }
@@ -628,24 +604,26 @@ impl Search<'_> {
     }
 
     /// The pairs of every querying particle with the surface elements of
-    /// `elements` (triangles or segments) within reach, grouped by particle
-    /// in ascending order, each particle's in the order of the elements,
-    /// into `out`; `pair` makes the pair from the particle, the element and
-    /// the element's body, or nothing when it cannot touch within the
+    /// `elements` (triangles or segments) within reach, into `out` in
+    /// buckets of clearance (`clearance_of`), each particle's pairs
+    /// together in the order of the elements, the particles in ascending
+    /// order within a bucket ([`Buckets::by_particle`]); returns where the
+    /// buckets start. `pair` makes the pair from the particle, the element
+    /// and the element's body, or nothing when it cannot touch within the
     /// reach. The particles go into a grid (one cell each) and
     /// each element's box, grown by the reach, asks it for the particles
     /// inside, in parallel over chunks of elements.
-    fn particles_against<const N: usize, P: Copy + Send>(
+    fn particles_against<const N: usize, P: Copy + Send + Sync>(
         &self,
         scratch: &mut Scratch,
         elements: Elements<N>,
         (chunks, out): (&mut Vec<Vec<P>>, &mut Vec<P>),
-        particle_of: fn(&P) -> u32,
+        (particle_of, clearance_of): SortKeys<P>,
         pair: impl Fn(u32, [u32; N], u32) -> Option<P> + Sync,
-    ) {
+    ) -> Buckets {
         out.clear();
         if elements(scratch).is_empty() || scratch.querying.is_empty() {
-            return;
+            return Buckets::default();
         }
         let extent = scratch.element_boxes(elements, self.position, self.reach);
         let Scratch { grid, querying, .. } = scratch;
@@ -686,15 +664,17 @@ impl Search<'_> {
         );
         if self.budget.exceeded() {
             out.clear();
-            return;
+            return Buckets::default();
         }
-        by_particle(
+        Buckets::by_particle(
             chunks,
             particle_of,
+            clearance_of,
+            self.bucket_width,
             self.position.len(),
-            &mut scratch.run_start,
+            &mut scratch.by_particle,
             out,
-        );
+        )
     }
 
     /// The pairs of elements of `elements` with each other within reach
@@ -860,19 +840,22 @@ impl Contacts {
             found: AtomicUsize::new(0),
             limit: pair_limit(elements),
         };
+        // Clearances lie within the margin.
+        let bucket_width = margin / CLEARANCE_BUCKETS as Real;
         let search = Search {
             bodies,
             position,
             reach,
+            bucket_width,
             links,
             budget: &budget,
         };
         let x = |i: u32| position[i as usize];
-        search.particles_against(
+        let triangle_buckets = search.particles_against(
             scratch,
             |s| &s.triangles,
             (&mut found.point_triangle, &mut pairs.point_triangle),
-            |pair| pair.particle,
+            (|pair| pair.particle, |pair| pair.clearance),
             |particle, [a, b, c], body| {
                 let closed = bodies[body as usize].closed;
                 let side = if closed {
@@ -897,11 +880,11 @@ impl Contacts {
                 })
             },
         );
-        search.particles_against(
+        let segment_buckets = search.particles_against(
             scratch,
             |s| &s.segments,
             (&mut found.point_segment, &mut pairs.point_segment),
-            |pair| pair.particle,
+            (|pair| pair.particle, |pair| pair.clearance),
             |particle, [a, b], body| {
                 let closed = bodies[body as usize].closed;
                 let side = if closed {
@@ -978,8 +961,11 @@ impl Contacts {
                 limit: budget.limit,
             });
         }
-        // Clearances lie within the margin.
-        pairs.bucket(margin / CLEARANCE_BUCKETS as Real, &mut found.spare);
+        pairs.bucket_singles(
+            bucket_width,
+            [triangle_buckets, segment_buckets],
+            &mut found.spare,
+        );
         Ok(())
     }
 }

@@ -262,6 +262,33 @@ impl ContactPairs {
         ];
     }
 
+    /// [`ContactPairs::bucket`] for the lists of single pairs (of edges,
+    /// of particles) only: the particle–element lists are in buckets
+    /// already, where `points` say (triangles, segments), as the search
+    /// puts them in order and in buckets in one sort
+    /// ([`Buckets::by_particle`]).
+    pub(crate) fn bucket_singles(&mut self, width: Real, points: [Buckets; 2], spare: &mut Spare) {
+        let [triangles, segments] = points;
+        self.buckets = [
+            triangles,
+            segments,
+            Buckets::sort(
+                &mut self.edge_edge,
+                width,
+                |p| p.clearance,
+                |_, _| false,
+                &mut spare.edge_edge,
+            ),
+            Buckets::sort(
+                &mut self.point_point,
+                width,
+                |p| p.clearance,
+                |_, _| false,
+                &mut spare.point_point,
+            ),
+        ];
+    }
+
     /// Number of candidate pairs.
     pub fn len(&self) -> usize {
         self.point_triangle.len()
