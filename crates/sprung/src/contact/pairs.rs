@@ -230,7 +230,7 @@ impl ContactPairs {
     pub(crate) fn bucket(&mut self, width: Real, spare: &mut Spare) {
         let particle = |a: &PointTriangle, b: &PointTriangle| a.particle == b.particle;
         let in_2d = |a: &PointSegment, b: &PointSegment| a.particle == b.particle;
-        self.buckets = [
+        let points = [
             Buckets::sort(
                 &mut self.point_triangle,
                 width,
@@ -245,21 +245,8 @@ impl ContactPairs {
                 in_2d,
                 &mut spare.point_segment,
             ),
-            Buckets::sort(
-                &mut self.edge_edge,
-                width,
-                |p| p.clearance,
-                |_, _| false,
-                &mut spare.edge_edge,
-            ),
-            Buckets::sort(
-                &mut self.point_point,
-                width,
-                |p| p.clearance,
-                |_, _| false,
-                &mut spare.point_point,
-            ),
         ];
+        self.bucket_singles(width, points, spare);
     }
 
     /// [`ContactPairs::bucket`] for the lists of single pairs (of edges,
