@@ -369,6 +369,24 @@ pub enum StepError {
         /// The contact thickness (m).
         thickness: Real,
     },
+    /// A rod stayed off its length by more than [`crate::constrain::ROD_FAILURE`]
+    /// (relative) after the constrain stage's sweeps: the rods could not be
+    /// held, and the motion is no longer that of the scene.
+    #[error("step {step} (t = {} s): rod {rod} of {body} is off its length by {:.1} % after constraint_iterations = {iterations} sweeps: the rods cannot be held at this step (rods between very unequal masses converge slowly: raise `constraint_iterations`, lower `dt`, or even out the masses; rods whose lengths cannot all hold at once, as between pinned particles or rigid bodies, never converge)", Seconds(*time), 100.0 * error)]
+    RodOff {
+        /// Number of the step that failed (1 = first step).
+        step: u64,
+        /// Simulated time at the end of that step (s).
+        time: Real,
+        /// The rod's index in its body (the scene's order).
+        rod: usize,
+        /// Its body, in words: `body "chain"`.
+        body: String,
+        /// Its relative length error, `|d - L| / L`.
+        error: Real,
+        /// The sweeps the stage took.
+        iterations: u32,
+    },
     /// The state became non-finite or ran away: the run must stop.
     #[error("simulation blew up at step {step} (t = {} s): particle {particle} ({body}) {reason}; {}", Seconds(*time), advice(*dt, *stable_dt))]
     BlowUp {

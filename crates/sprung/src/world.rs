@@ -476,7 +476,26 @@ impl World {
             }
         }
         self.guard(dt)?;
+        self.check_rods()?;
         Ok(report)
+    }
+
+    /// Fail the step if a rod is off its length by more than
+    /// [`crate::constrain::ROD_FAILURE`] after the constrain stage.
+    fn check_rods(&self) -> Result<(), StepError> {
+        let RodReport { error, worst, .. } = self.last_rods;
+        if error <= crate::constrain::ROD_FAILURE {
+            return Ok(());
+        }
+        let body = self.bodies.iter().find(|b| b.rods.contains(&worst));
+        Err(StepError::RodOff {
+            step: self.steps,
+            time: self.time,
+            rod: body.map_or(worst, |b| worst - b.rods.start),
+            body: body.map_or_else(|| "no body".into(), |b| format!("body \"{}\"", b.name)),
+            error,
+            iterations: self.settings.constraints.iterations,
+        })
     }
 
     /// The muscles' rest lengths at the start of the (sub)step.

@@ -29,6 +29,13 @@ use crate::Real;
 /// cannot.
 pub const MAX_CONSTRAINT_ITERATIONS: u32 = 100_000;
 
+/// The relative length error `|d - L| / L` of a rod after the constrain
+/// stage beyond which a step fails ([`crate::StepError::RodOff`]): a
+/// hundred times less is already far outside any tolerance a user sets,
+/// and a rod 1 % off moves its ends visibly (the constrain stage's sweeps
+/// failing on very unequal masses left rods 93 % off).
+pub const ROD_FAILURE: Real = 1e-2;
+
 /// Tolerances of the constrain stage (`[sim]` keys).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConstraintSettings {

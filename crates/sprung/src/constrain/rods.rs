@@ -42,6 +42,8 @@ pub struct RodReport {
     pub sweeps: u32,
     /// Largest relative length error left, `|d - L| / L`.
     pub error: Real,
+    /// The rod with that error (the first of equal ones).
+    pub worst: usize,
 }
 
 impl Rods {
@@ -64,9 +66,22 @@ impl Rods {
 
     /// Largest relative length error `|d - L| / L` at `position` (m).
     pub fn largest_error(&self, position: &[Vec3]) -> Real {
+        self.worst(position).1
+    }
+
+    /// The rod with the largest relative length error at `position` (m)
+    /// (the first of equal ones; a rod whose error is not a number counts
+    /// as the largest), and that error (0 for no rods).
+    pub fn worst(&self, position: &[Vec3]) -> (usize, Real) {
         (0..self.len())
-            .map(|r| self.error_of(r, position))
-            .fold(0.0, Real::max)
+            .map(|r| (r, self.error_of(r, position)))
+            .fold((0, 0.0), |(w, e), (r, error)| {
+                if error > e || (error.is_nan() && !e.is_nan()) {
+                    (r, error)
+                } else {
+                    (w, e)
+                }
+            })
     }
 
     fn error_of(&self, r: usize, position: &[Vec3]) -> Real {
@@ -130,7 +145,7 @@ impl Rods {
                 break;
             }
         }
-        report.error = self.largest_error(position);
+        (report.worst, report.error) = self.worst(position);
         for ((v, x), x0) in velocity.iter_mut().zip(&*position).zip(&*start) {
             *v += (*x - *x0) / dt;
         }
