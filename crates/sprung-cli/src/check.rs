@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use sprung::error::Readable;
+use sprung::{Real, Substeps};
 use sprung_io::load_scene;
 
 use crate::bench::memory;
@@ -77,12 +78,27 @@ pub fn run(path: &Path) -> Result<(), CliError> {
     let stable = world.stable_time_step();
     if stable.is_finite() {
         println!("  stable step of the explicit integrators: about {stable:.3e} s");
-        if !world.integrator().is_implicit() && scene.dt > stable {
-            eprintln!(
-                "warning: dt = {} s is above the stable estimate {stable:.3e} s: {} will likely blow up (lower dt, use substeps = \"auto\", or an implicit integrator)",
-                Readable(scene.dt),
-                world.integrator()
+        let substeps = world.settings.substeps;
+        let explicit = !world.integrator().is_implicit();
+        if explicit && substeps == Substeps::Auto && scene.dt > stable {
+            // The step splits itself: say how, rather than warn.
+            println!(
+                "  substeps = \"auto\": about {} substeps a step at the start",
+                (scene.dt / (0.9 * stable)).ceil()
             );
+        } else if let (true, Substeps::Fixed(n)) = (explicit, substeps) {
+            let substep = scene.dt / Real::from(n);
+            if substep > stable {
+                let what = if n > 1 {
+                    format!("a substep of dt / {n} = {} s", Readable(substep))
+                } else {
+                    format!("dt = {} s", Readable(scene.dt))
+                };
+                eprintln!(
+                    "warning: {what} is above the stable estimate {stable:.3e} s: {} will likely blow up (lower dt, use substeps = \"auto\", or an implicit integrator)",
+                    world.integrator()
+                );
+            }
         }
     } else {
         println!("  stable step of the explicit integrators: unlimited (nothing stiff)");

@@ -74,8 +74,10 @@ pub fn centroid(particles: &Particles, body: &Body) -> Vec3 {
 /// candidate contact pair of the step it is part of, twice the contact's
 /// stiffness over `m_i` (its closest-point weights sum to at most 2 on each
 /// side). For a uniform chain this gives docs/physics.md's `ω_max = 2 √(k/m)`.
-/// `γ_max` is the same bound for the damping coefficients (it limits
-/// explicit steps of a heavily damped system). Symplectic Euler and Verlet
+/// `γ_max` is the same bound for the damping coefficients, plus the
+/// damping `rates` (1/s) of the other forces (air drag, wind;
+/// [`crate::forces::Force::add_damping_rates`]): it limits explicit steps
+/// of a heavily damped system. Symplectic Euler and Verlet
 /// are stable below this step; explicit Euler is never strictly stable on
 /// an undamped oscillator, and RK4 tolerates about 1.4 times more.
 /// Infinite when nothing is stiff.
@@ -84,10 +86,12 @@ pub fn stable_time_step(
     springs: &Springs,
     colliders: &[Collider],
     contacts: &Contacts,
+    rates: &[Real],
 ) -> Real {
     let n = particles.len();
     let mut stiffness_bound = vec![0.0; n];
-    let mut damping_bound = vec![0.0; n];
+    let mut damping_bound = rates.to_vec();
+    damping_bound.resize(n, 0.0);
     for s in 0..springs.len() {
         let (i, j) = (springs.first()[s] as usize, springs.second()[s] as usize);
         let (wi, wj) = (particles.inverse_mass[i], particles.inverse_mass[j]);

@@ -989,11 +989,16 @@ impl World {
     /// A stable time step for the explicit methods (s); see
     /// [`measure::stable_time_step`].
     pub fn stable_time_step(&self) -> Real {
+        let mut rates = vec![0.0; self.particles.len()];
+        for force in self.forces.iter() {
+            force.add_damping_rates(&self.particles.inverse_mass, &mut rates);
+        }
         measure::stable_time_step(
             &self.particles,
             &self.springs,
             &self.colliders,
             &self.contacts,
+            &rates,
         )
     }
 }

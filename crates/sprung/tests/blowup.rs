@@ -84,6 +84,59 @@ fn stable_time_step_is_the_gershgorin_bound_for_unequal_masses() {
 }
 
 #[test]
+fn air_drag_limits_the_stable_step_and_the_estimate_says_so() {
+    // One free particle of 1 g under air drag c = 2 N·s/m, nothing else:
+    // symplectic Euler multiplies its velocity by 1 - (c/m) dt each step,
+    // stable only below dt = 2 m / c = 1e-3 s. Claim: the estimate is that
+    // step (to round-off, 1e-12), the same for a simple wind of the same
+    // coefficient, and a run just above it grows (|1 - 2.2| > 1) while
+    // one just below it decays: the estimate is the true limit here.
+    let particle = || {
+        let mut body = BodyData::from_positions(vec![Vec3::ZERO]);
+        body.mass = vec![1e-3];
+        body.velocity = vec![Vec3::X];
+        body
+    };
+    let dusty = || {
+        let mut world = World::new(IntegratorKind::SymplecticEuler);
+        world.set_gravity(Vec3::ZERO);
+        world.set_air_drag(2.0);
+        world.add_body("dust", particle()).expect("valid body");
+        world
+    };
+    let estimate = dusty().stable_time_step();
+    assert!(
+        (estimate / 1e-3 - 1.0).abs() <= 1e-12,
+        "estimate {estimate:e} s"
+    );
+    for (dt, grows) in [(1.1e-3, true), (0.9e-3, false)] {
+        let mut world = dusty();
+        for _ in 0..50 {
+            let _ = world.step(dt);
+        }
+        let speed = world.particles.velocity[0].length();
+        assert_eq!(
+            speed > 1.0 || !speed.is_finite(),
+            grows,
+            "dt {dt}: speed {speed}"
+        );
+    }
+    let mut windy = World::new(IntegratorKind::SymplecticEuler);
+    windy.set_gravity(Vec3::ZERO);
+    let field = sprung::forces::WindField::uniform(Vec3::ZERO);
+    let model = sprung::forces::WindModel::Simple { coefficient: 2.0 };
+    windy
+        .forces
+        .set(sprung::forces::Wind::new(field, model).expect("a valid wind"));
+    windy.add_body("dust", particle()).expect("valid body");
+    let estimate = windy.stable_time_step();
+    assert!(
+        (estimate / 1e-3 - 1.0).abs() <= 1e-12,
+        "wind: estimate {estimate:e} s"
+    );
+}
+
+#[test]
 fn explicit_euler_far_above_the_stable_step_blows_up_with_a_clear_error() {
     let mut world = stiff_rope(IntegratorKind::Euler, Vec3::new(0.0, -9.81, 0.0));
     let dt = 10.0 * analytical_stable_dt();

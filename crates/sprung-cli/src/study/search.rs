@@ -144,7 +144,9 @@ pub fn trial(plan: &Plan, kind: IntegratorKind, dt: Real) -> Result<Verdict, Cli
                 verdict = Verdict::Unstable(format!("blew up at step {step}: {reason}"));
                 break;
             }
-            Err(StepError::RodOff { rod, body, error, .. }) => {
+            Err(StepError::RodOff {
+                rod, body, error, ..
+            }) => {
                 verdict = Verdict::Unstable(format!(
                     "rod {rod} of {body} off its length by {:.1} % at step {step}",
                     100.0 * error

@@ -29,6 +29,13 @@ impl Force for AirDrag {
         });
     }
 
+    /// `c_air / m` on every particle.
+    fn add_damping_rates(&self, inverse_mass: &[Real], rate: &mut [Real]) {
+        for (rate, w) in rate.iter_mut().zip(inverse_mass) {
+            *rate += self.coefficient * w;
+        }
+    }
+
     /// Dissipative: no potential energy.
     fn add_energy(&self, _context: &ForceContext, _energies: &mut Energies) {}
 

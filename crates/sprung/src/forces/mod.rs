@@ -133,6 +133,16 @@ pub trait Force: Send + Sync + std::fmt::Debug + std::any::Any {
         let _ = (context, force);
         false
     }
+    /// Add to `rate[i]` (1/s) a bound on how fast this force damps the
+    /// velocity of particle `i`: its largest `|∂f/∂v|` (N·s/m) on the
+    /// particle times the particle's `inverse_mass` (1/kg). The explicit
+    /// methods' stable step counts it (a step of a damping rate `γ` is
+    /// stable below `2 / γ`, [`crate::measure::stable_time_step`]). Nothing
+    /// by default: the springs and contacts are counted there apart, and
+    /// most forces do not damp.
+    fn add_damping_rates(&self, inverse_mass: &[Real], rate: &mut [Real]) {
+        let _ = (inverse_mass, rate);
+    }
     /// Add this force's potential energy (J) to the right term of
     /// `energies`; a force without a potential (drag, wind) adds nothing.
     fn add_energy(&self, context: &ForceContext, energies: &mut Energies);

@@ -207,6 +207,18 @@ impl Force for Wind {
         "wind"
     }
 
+    /// The simple model's `c (w - v)·n n` damps a particle's velocity along
+    /// its unit normal at `c / m` (counted on every particle, faces or not);
+    /// the area model's force grows with the square of the relative speed
+    /// and has no fixed rate (not counted).
+    fn add_damping_rates(&self, inverse_mass: &[Real], rate: &mut [Real]) {
+        if let WindModel::Simple { coefficient } = self.model {
+            for (rate, w) in rate.iter_mut().zip(inverse_mass) {
+                *rate += coefficient * w;
+            }
+        }
+    }
+
     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
         match self.model {
             WindModel::Simple { coefficient } => self.simple(coefficient, context, force),
