@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use sprung::error::Readable;
+use sprung::forces::{gravitating_particles, Gravitation, MAX_GRAVITATING};
 use sprung::{Real, Substeps};
 use sprung_io::load_scene;
 
@@ -75,6 +76,13 @@ pub fn run(path: &Path) -> Result<(), CliError> {
         world.integrator(),
         Readable(scene.steps as f64 * scene.dt)
     );
+    if world.forces.get::<Gravitation>().is_some() {
+        let members = gravitating_particles(&world.bodies) as f64;
+        println!(
+            "  gravitation: {members} particles, {} pairs summed every step (at most {MAX_GRAVITATING} particles)",
+            Readable(members * (members - 1.0) / 2.0)
+        );
+    }
     let stable = world.stable_time_step();
     if stable.is_finite() {
         println!("  stable step of the explicit integrators: about {stable:.3e} s");

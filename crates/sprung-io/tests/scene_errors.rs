@@ -746,6 +746,23 @@ fn bad_gravitation() {
         10,
         &["`gravitating` needs a `[gravitation]` table"],
     );
+    // A direct sum over every pair: 142² = 20 164 gravitating particles
+    // (with GOOD's 3) are 2e8 pairs a step, refused before the run (a
+    // 300² cloth ran for more than a minute without finishing a step);
+    // the same cloth left out with `gravitating = false` loads.
+    let big =
+        "[[body]]\nname = \"big\"\ncloth = { nx = 142, ny = 142, width = 1.0, height = 1.0 }\n";
+    assert_error(
+        &format!("{GOOD}[gravitation]\nconstant = 1.0\n{big}"),
+        10,
+        &[
+            "gravitation between 20167 particles",
+            "2.0e8 pairs",
+            "`gravitating = false`",
+        ],
+    );
+    let left_out = format!("{GOOD}[gravitation]\nconstant = 1.0\n{big}gravitating = false\n");
+    parse_scene(&left_out, Path::new("good.toml")).expect("the cloth left out of gravitation");
 }
 
 /// The world's limits must be positive and at most 1e100: beyond, the

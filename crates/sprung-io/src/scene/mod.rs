@@ -20,7 +20,7 @@ pub use error::SceneError;
 use std::path::{Path, PathBuf};
 
 use sprung::build;
-use sprung::forces::{Gravitation, GRAVITATIONAL_CONSTANT};
+use sprung::forces::{gravitating_particles, Gravitation, GRAVITATIONAL_CONSTANT, MAX_GRAVITATING};
 use sprung::integrate::{Preconditioner, SolverSettings};
 use sprung::world::MAX_SUBSTEPS;
 use sprung::{
@@ -206,6 +206,14 @@ pub fn parse_scene_with(
     if let Some(table) = &file.gravitation {
         let gravitation = gravitation(table.get_ref())
             .map_err(|(key, m)| at(table.span(), key, format!("gravitation: {m}")))?;
+        let members = gravitating_particles(&world.bodies);
+        if members > MAX_GRAVITATING {
+            let message = format!(
+                "gravitation between {members} particles is a direct sum over {:.1e} pairs every step, beyond the {MAX_GRAVITATING} particles sprung takes (2e8 pairs, about a second a step): leave bodies out with `gravitating = false`",
+                members as f64 * (members as f64 - 1.0) / 2.0
+            );
+            return Err(at(table.span(), "gravitation", message));
+        }
         world.forces.set(gravitation);
     } else if let Some((span, name, ..)) = bodies.iter().find(|b| b.3.is_some()) {
         let message = format!("body \"{name}\": `gravitating` needs a `[gravitation]` table");

@@ -37,6 +37,22 @@ pub struct Gravitation {
     built_for: (Vec<bool>, usize),
 }
 
+/// The most particles that may take part in gravitation: its direct sum
+/// visits every pair each step, 2e8 pairs at this count (about a second a
+/// step on two cores), and the scene loaders refuse more before a run
+/// that would never end.
+pub const MAX_GRAVITATING: usize = 20_000;
+
+/// How many particles of `bodies` take part in gravitation (their
+/// [`crate::Body::gravitating`] flag).
+pub fn gravitating_particles(bodies: &[crate::Body]) -> usize {
+    bodies
+        .iter()
+        .filter(|b| b.gravitating)
+        .map(|b| b.particles.len())
+        .sum()
+}
+
 /// The largest softening (m): its square, added to the squared distances,
 /// stays far from overflowing (at 1e308 it did, and every pull and energy
 /// came out zero).

@@ -38,7 +38,9 @@ mod wind_field;
 
 pub use contact::PenaltyContacts;
 pub use drag::AirDrag;
-pub use gravitation::{Gravitation, GRAVITATIONAL_CONSTANT};
+pub use gravitation::{
+    gravitating_particles, Gravitation, GRAVITATIONAL_CONSTANT, MAX_GRAVITATING,
+};
 pub use gravity::Gravity;
 pub use list::ForceList;
 pub use mouse::MouseSpring;
