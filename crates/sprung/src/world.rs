@@ -590,7 +590,8 @@ impl World {
                 if kind.is_implicit() || kind == IntegratorKind::Rk45 {
                     return 1;
                 }
-                let stable = 0.9 * self.stable_time_step();
+                // The step's own pairs: its detect stage has run.
+                let stable = 0.9 * self.stable_time_step_with(&self.contacts);
                 (dt / stable).ceil().clamp(1.0, MAX_SUBSTEPS as Real) as u32
             }
         }
@@ -987,8 +988,14 @@ impl World {
     }
 
     /// A stable time step for the explicit methods (s); see
-    /// [`measure::stable_time_step`].
+    /// [`measure::stable_time_step`]. Before the first step, with the
+    /// contacts the bodies start in (a detect stage run on a copy).
     pub fn stable_time_step(&self) -> Real {
+        self.stable_time_step_with(&self.contacts_now())
+    }
+
+    /// [`World::stable_time_step`] with the candidate pairs of `contacts`.
+    fn stable_time_step_with(&self, contacts: &Contacts) -> Real {
         let mut rates = vec![0.0; self.particles.len()];
         for force in self.forces.iter() {
             force.add_damping_rates(&self.particles.inverse_mass, &mut rates);
@@ -997,7 +1004,7 @@ impl World {
             &self.particles,
             &self.springs,
             &self.colliders,
-            &self.contacts,
+            contacts,
             &rates,
         )
     }
