@@ -658,7 +658,15 @@ fn the_readmes_scene_block_loads_and_runs_as_written() {
     let check = sprung(&["check", "scene.toml"], dir.path());
     assert!(check.status.success(), "{}", text(&check.stderr));
     let run = sprung(
-        &["run", "scene.toml", "--out", "res", "--time", "0.05", "--quiet"],
+        &[
+            "run",
+            "scene.toml",
+            "--out",
+            "res",
+            "--time",
+            "0.05",
+            "--quiet",
+        ],
         dir.path(),
     );
     assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));

@@ -44,7 +44,9 @@ fn read(text: &str) -> VtkFrame {
 /// The world's cells in the order of the frames: springs, rods, segments
 /// (lines), then triangles.
 fn expected_lines(world: &World) -> Vec<Vec<u32>> {
-    let mut lines: Vec<Vec<u32>> = (0..world.springs.len())
+    let mut lines: Vec<Vec<u32>> = world
+        .springs_in_scene_order()
+        .into_iter()
         .map(|s| world.springs.endpoints(s).to_vec())
         .collect();
     for body in &world.bodies {
@@ -71,7 +73,12 @@ fn frames_carry_kind_body_rest_length_and_strain_per_cell() {
             .collect();
         assert_eq!(kind, &expected_kind);
         let rest = &frame.cell_data["rest_length"].values;
-        assert_eq!(&rest[..springs], &world.springs.rest_length[..]);
+        let in_scene_order = world.springs_in_scene_order();
+        let scene_rest: Vec<f64> = in_scene_order
+            .iter()
+            .map(|&s| world.springs.rest_length[s])
+            .collect();
+        assert_eq!(&rest[..springs], &scene_rest[..]);
         assert!(
             rest[springs..].iter().all(|&v| v == 0.0),
             "0 off the springs"
@@ -83,7 +90,7 @@ fn frames_carry_kind_body_rest_length_and_strain_per_cell() {
             let d = p[a as usize].distance(p[b as usize]);
             (d - world.springs.rest_length[s]) / world.springs.rest_length[s]
         };
-        for (s, &value) in strain[..springs].iter().enumerate() {
+        for (&s, &value) in in_scene_order.iter().zip(&strain[..springs]) {
             assert_eq!(value, spring_strain(s), "spring {s}");
         }
         // A triangle's strain is the mean of its edges' springs' (each
@@ -114,6 +121,37 @@ fn frames_carry_kind_body_rest_length_and_strain_per_cell() {
         }
         assert_eq!(frame.field_data["TIME"].values, vec![world.time()]);
     }
+}
+
+#[test]
+fn spring_cells_come_in_the_scenes_order() {
+    // The world stores a body's springs in an order of its own (runs
+    // first, for the spring force), which the frames followed: a user
+    // reading the `rest_length` or `strain` of spring cell k, or driving
+    // spring k by a muscle, counts in the scene's order. Claim: the
+    // springs listed [2, 3], [1, 2], [0, 1], [3, 0] come out as cells in
+    // that order with their own rest lengths (1 m apart each but the last,
+    // 3 m), for a body added after another.
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    world
+        .add_body("before", build::rope(3, 1.0).expect("rope"))
+        .expect("rope");
+    let xs = [0.0, 1.0, 2.0, 3.0];
+    let mut body = sprung::BodyData::from_positions(xs.map(|x| Vec3::new(x, 5.0, 0.0)).to_vec());
+    body.springs = [[2, 3], [1, 2], [0, 1], [3, 0]]
+        .map(|[a, b]| sprung::SpringData::between(a, b))
+        .to_vec();
+    world.add_body("x", body).expect("valid body");
+    let frame = read(&frame_text(&world));
+    let rope_springs = world.body("before").expect("rope").springs.len();
+    let offset = world.body("x").expect("x").particles.start as u32;
+    let cells: Vec<Vec<u32>> = frame.lines[rope_springs..rope_springs + 4]
+        .iter()
+        .map(|line| line.iter().map(|p| p - offset).collect())
+        .collect();
+    assert_eq!(cells, vec![vec![2, 3], vec![1, 2], vec![0, 1], vec![3, 0]]);
+    let rest = &frame.cell_data["rest_length"].values[rope_springs..rope_springs + 4];
+    assert_eq!(rest, &[1.0, 1.0, 1.0, 3.0]);
 }
 
 #[test]

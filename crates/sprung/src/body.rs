@@ -910,9 +910,24 @@ pub struct Body {
     /// (reverse Cuthill–McKee, `order::locality_numbering`); `None` where
     /// the force reads them in the body's own numbering.
     pub(crate) spring_numbering: Option<Vec<u32>>,
+    /// Per spring of the body in the scene's order (its
+    /// [`BodyData::springs`]), its place in `springs` counted from the
+    /// range's start: the world stores a body's springs in an order of its
+    /// own (runs first, for the spring force).
+    pub(crate) scene_springs: Vec<u32>,
 }
 
 impl Body {
+    /// The body's springs (indices in the world's [`crate::Springs`]) in
+    /// the order the scene gave them ([`BodyData::springs`]), the order its
+    /// spring indices (muscles, outputs) count in; `springs` ranges over
+    /// them in the order the world stores them.
+    pub fn springs_in_scene_order(&self) -> impl Iterator<Item = usize> + '_ {
+        self.scene_springs
+            .iter()
+            .map(|&k| self.springs.start + k as usize)
+    }
+
     /// True for a 2D body (bounded by segments in the xy-plane).
     pub fn is_planar(&self) -> bool {
         self.faces.is_empty() && !self.segments.is_empty()

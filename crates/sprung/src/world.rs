@@ -317,6 +317,7 @@ impl World {
             rigid: data.rigid,
             gravitating: data.gravitating,
             spring_numbering: number,
+            scene_springs: stored.iter().map(|&k| (k - first_spring) as u32).collect(),
         };
         for rod in &data.rods {
             self.rods
@@ -865,6 +866,25 @@ impl World {
         let (mut dynamics, position, velocity, _) = self.split();
         dynamics.force(time, position, velocity, &mut force);
         self.particles.force = force;
+    }
+
+    /// Every spring of the world (indices in [`World::springs`]) in the
+    /// scene's order: body by body, each body's in the order its scene
+    /// gave them ([`Body::springs_in_scene_order`]), then any spring of no
+    /// body in the order stored. What the outputs list springs in.
+    pub fn springs_in_scene_order(&self) -> Vec<usize> {
+        let mut listed = vec![false; self.springs.len()];
+        let mut order: Vec<usize> = Vec::with_capacity(self.springs.len());
+        for body in &self.bodies {
+            for s in body.springs_in_scene_order() {
+                if let Some(seen) = listed.get_mut(s).filter(|seen| !**seen) {
+                    *seen = true;
+                    order.push(s);
+                }
+            }
+        }
+        order.extend((0..self.springs.len()).filter(|&s| !listed[s]));
+        order
     }
 
     /// Every energy term at the current state (J): kinetic, and the

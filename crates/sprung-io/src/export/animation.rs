@@ -67,8 +67,7 @@ impl Animation {
                 // Springs and rigid rods, as pairs of line ends.
                 let rods = &world.rods;
                 let lines = if body.faces.is_empty() {
-                    body.springs
-                        .clone()
+                    body.springs_in_scene_order()
                         .flat_map(|s| springs.endpoints(s))
                         .chain(
                             body.rods

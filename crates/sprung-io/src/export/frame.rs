@@ -4,7 +4,8 @@
 //! - **Points**: the particles, with point data `velocity` (m/s), `pinned`
 //!   (1 or 0) and `body` (the index of the particle's body, in the order
 //!   of the scene; the names are in the series file).
-//! - **Cells**, in this order: springs (lines), rigid rods (lines), the
+//! - **Cells**, in this order: springs (lines, in the scene's order:
+//!   body by body, each body's as its scene lists them), rigid rods (lines), the
 //!   segments of 2D bodies (lines), the triangles of surfaces; cell data
 //!   `kind` ([`CellKind`]: 0 spring, 1 rod, 2 segment, 3 triangle),
 //!   `body`, `rest_length` (m; 0 where the cell is neither a spring nor a
@@ -88,7 +89,7 @@ impl Frame {
         let body_of = |particle: u32| point_body[particle as usize];
         // Strain by undirected edge, for the segments and triangles.
         let mut edge_strain: HashMap<(u32, u32), Real> = HashMap::new();
-        for s in 0..springs.len() {
+        for s in world.springs_in_scene_order() {
             let [a, b] = springs.endpoints(s);
             let rest = springs.rest_length[s];
             let strain = (length(a, b) - rest) / rest;

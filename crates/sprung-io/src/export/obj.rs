@@ -38,7 +38,7 @@ pub(crate) fn render(world: &World) -> String {
         let _ = writeln!(out, "o {}", body.name);
         if body.faces.is_empty() {
             let _ = writeln!(out, "s off");
-            for s in body.springs.clone() {
+            for s in body.springs_in_scene_order() {
                 let [a, b] = springs.endpoints(s);
                 let _ = writeln!(out, "l {} {}", a + 1, b + 1);
             }

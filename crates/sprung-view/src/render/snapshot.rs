@@ -52,11 +52,12 @@ impl Model {
         for body in world.bodies.iter().filter(|b| b.closed && b.is_planar()) {
             outlines.extend(chain_loops(&body.segments));
         }
+        // In the scene's order, as the frames list them.
+        let order = world.springs_in_scene_order();
+        let phase = muscle_phases(world);
         Model {
-            springs: (0..springs.len())
-                .map(|s| [springs.first()[s], springs.second()[s]])
-                .collect(),
-            rest_length: springs.rest_length.clone(),
+            springs: order.iter().map(|&s| springs.endpoints(s)).collect(),
+            rest_length: order.iter().map(|&s| springs.rest_length[s]).collect(),
             faces: world
                 .bodies
                 .iter()
@@ -69,7 +70,11 @@ impl Model {
             rods: (0..world.rods.len())
                 .map(|r| [world.rods.first[r], world.rods.second[r]])
                 .collect(),
-            muscle_phase: muscle_phases(world),
+            muscle_phase: if phase.is_empty() {
+                phase
+            } else {
+                order.iter().map(|&s| phase[s]).collect()
+            },
         }
     }
 
