@@ -944,3 +944,36 @@ fn a_2d_gas_body_off_its_plane_is_refused() {
     let over = format!("{ring}rotate = [180.0, 0.0, 0.0]\nvelocity = [1.0, 2.0]\n");
     assert!(parse_scene(&over, Path::new("over.toml")).is_ok());
 }
+
+/// Placement of a 2D body: a turn about x or y takes a 2D body (one with
+/// segments) out of the plane z = 0 where 2D gas and contact work, and two
+/// angles were read as turns about x and y; a rope made rigid is told why
+/// it has a pinned particle.
+#[test]
+fn turns_that_leave_the_plane_and_a_rigid_rope() {
+    // GOOD has 9 lines: `[[body]]` is line 10, `rotate` line 13.
+    let ring = "[[body]]\nname = \"r\"\nring = { particles = 12, radius = 0.5 }\n";
+    assert_error(
+        &format!("{GOOD}{ring}rotate = [30.0, 0.0, 0.0]\n"),
+        13,
+        &["body \"r\"", "out of the plane z = 0", "[0.0, 0.0, angle]"],
+    );
+    assert_error(
+        &format!("{GOOD}{ring}rotate = [30.0, 0.0]\n"),
+        13,
+        &["`rotate` takes three angles"],
+    );
+    let turned = format!("{GOOD}{ring}rotate = [0.0, 0.0, 30.0]\n");
+    let scene = parse_scene(&turned, Path::new("good.toml")).expect("a turn in the plane");
+    assert!(scene.world.particles.position.iter().all(|p| p.z == 0.0));
+    let rope = "[[body]]\nname = \"r\"\nrope = { particles = 5, length = 1.0 }\nrigid = true\n";
+    assert_error(
+        &format!("{GOOD}{rope}"),
+        13,
+        &[
+            "`rigid` = true",
+            "a rope pins its first particle",
+            "`pinned = []`",
+        ],
+    );
+}

@@ -151,7 +151,7 @@ pub enum BuildError {
     #[error("`rigid` = true needs at least two particles")]
     RigidTooSmall,
     /// `rigid = true` on a body with pinned particles.
-    #[error("`rigid` = true cannot be combined with `pinned` particles")]
+    #[error("`rigid` = true cannot be combined with `pinned` particles (a rope pins its first particle unless told `pinned = []`)")]
     RigidPinned,
     /// A parameter outside its allowed range.
     #[error("`{field}` = {}: {reason}", Readable(*value))]

@@ -93,19 +93,45 @@ pub(crate) fn body_data(
         table.scale.unwrap_or(1.0),
         "the scale must be positive and finite",
     )?;
+    if table.rotate.as_ref().is_some_and(|r| r.len() == 2) {
+        return Err((
+            "rotate",
+            "`rotate` takes three angles (degrees about x, y and z); a 2D body turns in its plane about z: [0.0, 0.0, angle]".into(),
+        ));
+    }
     let rotate = table
         .rotate
         .as_deref()
         .map(|r| vector("rotate", r))
         .transpose()?
         .unwrap_or(Vec3::ZERO);
+
     let translate = table
         .translate
         .as_deref()
         .map(|t| vector("translate", t))
         .transpose()?
         .unwrap_or(Vec3::ZERO);
-    Ok(data.placed(scale, rotate, translate))
+    let data = data.placed(scale, rotate, translate);
+    // A 2D body (bounded by segments) lies in z = 0, where its contacts
+    // take their sides; a turn that leaves the plane is refused here (a 2D
+    // gas body is refused on its `gas` line by the body's own check). A z
+    // of a billionth of the body's size is rounding (a half turn about x).
+    let size = data
+        .position
+        .iter()
+        .fold(0.0, |m: f64, p| m.max(p.x.abs()).max(p.y.abs()));
+    let off_plane = data.position.iter().any(|p| p.z.abs() > 1e-9 * size);
+    if !data.segments.is_empty() && data.gas.is_none() && off_plane {
+        return Err((
+            "rotate",
+            format!(
+                "`rotate` = {:?} turns this 2D body (it has segments) out of the plane z = 0, where 2D bodies lie: turn it about z, [0.0, 0.0, angle] (or half a turn about x or y, which flips it over)",
+                rotate.to_array()
+            ),
+        ));
+    }
+    Ok(data)
 }
 
 fn builder(
