@@ -977,3 +977,31 @@ fn turns_that_leave_the_plane_and_a_rigid_rope() {
         ],
     );
 }
+
+/// A placement that ruins the body is refused on its own line: a
+/// translation of 1e308 m rounds particles 1 m apart onto one place (it
+/// was reported as a zero-length spring on the `springs` line), and a
+/// scale or translation beyond the world's limit names `scale` or
+/// `translate` (it named the `particles` line).
+#[test]
+fn placements_that_ruin_the_body_name_their_own_line() {
+    // GOOD has 9 lines: the key below is line 10.
+    assert_error(
+        &format!("{GOOD}translate = [1e308, 0.0, 0.0]\n"),
+        10,
+        &["`translate` = [1e308, 0.0, 0.0]", "spring 0 at one place"],
+    );
+    assert_error(
+        &format!("{GOOD}translate = [2e6, 0.0, 0.0]\n"),
+        10,
+        &[
+            "beyond the world's limit",
+            "where `scale`, `rotate` and `translate` put it",
+        ],
+    );
+    assert_error(
+        &format!("{GOOD}scale = 1e7\n"),
+        10,
+        &["beyond the world's limit", "where `scale`"],
+    );
+}

@@ -112,7 +112,34 @@ pub(crate) fn body_data(
         .map(|t| vector("translate", t))
         .transpose()?
         .unwrap_or(Vec3::ZERO);
+    // Springs whose ends the placement rounds onto one place (a
+    // translation of 1e308 m swallows a spacing of 1 m): refused here, on
+    // the placement's line, not as zero-length springs of the scene.
+    let apart = |data: &BodyData, s: &SpringData| {
+        data.position[s.first].distance(data.position[s.second]) > 0.0
+    };
+    let apart_before: Vec<bool> = data
+        .springs
+        .iter()
+        .map(|s| s.first < data.position.len() && s.second < data.position.len() && apart(&data, s))
+        .collect();
     let data = data.placed(scale, rotate, translate);
+    if let Some(k) =
+        (0..data.springs.len()).find(|&k| apart_before[k] && !apart(&data, &data.springs[k]))
+    {
+        let key = if table.translate.is_some() {
+            "translate"
+        } else {
+            "scale"
+        };
+        return Err((
+            key,
+            format!(
+                "`scale` = {scale}, `translate` = {:?} put the two ends of spring {k} at one place (the coordinates are too large, or the scale too small, for the spacing of the particles to survive rounding)",
+                translate.to_array()
+            ),
+        ));
+    }
     // A 2D body (bounded by segments) lies in z = 0, where its contacts
     // take their sides; a turn that leaves the plane is refused here (a 2D
     // gas body is refused on its `gas` line by the body's own check). A z
@@ -545,6 +572,16 @@ pub(crate) fn key_in(error: &BuildError, table: &BodyTable) -> &'static str {
             if table.rod_lengths.is_some() =>
         {
             "rod_lengths"
+        }
+        // Placed beyond the world's limit: the placement moved it there.
+        BuildError::BeyondLimit {
+            field: "particles", ..
+        } if table.translate.is_some() || table.scale.is_some() => {
+            if table.translate.is_some() {
+                "translate"
+            } else {
+                "scale"
+            }
         }
         _ => key_of(error),
     }

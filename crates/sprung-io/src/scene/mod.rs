@@ -168,7 +168,16 @@ pub fn parse_scene_with(
         }
         world.add_body(&body.name, data).map_err(|e| {
             let key = body::key_in(&e, body);
-            at(span.clone(), key, format!("body \"{}\": {e}", body.name))
+            let placed = if matches!(key, "translate" | "scale") {
+                " (where `scale`, `rotate` and `translate` put it)"
+            } else {
+                ""
+            };
+            at(
+                span.clone(),
+                key,
+                format!("body \"{}\": {e}{placed}", body.name),
+            )
         })?;
         let body = table.into_inner();
         bodies.push((span, body.name, body.wind_scale, body.gravitating));
