@@ -1005,3 +1005,21 @@ fn placements_that_ruin_the_body_name_their_own_line() {
         &["beyond the world's limit", "where `scale`"],
     );
 }
+
+/// A rod longer than the world is wide (twice `max_distance`) cannot hold
+/// within it: `rod_lengths = [1e300]` ran and died at the first step as a
+/// non-finite state; it is refused on its line.
+#[test]
+fn a_rod_longer_than_the_world_is_refused() {
+    // GOOD has 9 lines: `rods` is line 10, `rod_lengths` line 11.
+    assert_error(
+        &format!("{GOOD}rods = [[0, 2]]\nrod_lengths = [1e300]\n"),
+        11,
+        &[
+            "`rod_lengths`[0]: 1.000e300",
+            "a rod at most twice `max_distance`",
+        ],
+    );
+    let long = format!("{GOOD}rods = [[0, 2]]\nrod_lengths = [3.0]\n");
+    parse_scene(&long, Path::new("good.toml")).expect("a rod within the world");
+}

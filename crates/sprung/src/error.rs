@@ -277,12 +277,14 @@ pub enum BuildError {
         /// The first problem found.
         problem: SurfaceProblem,
     },
-    /// A particle starting beyond the blow-up limits of the world.
-    #[error("`{field}`[{index}]: {value:.3e} is beyond the world's limit {limit:.3e} (`max_distance` in m, `max_speed` in m/s, in [sim]): the run would stop at once")]
+    /// A particle starting beyond the blow-up limits of the world, or a
+    /// rod longer than the world is wide.
+    #[error("`{field}`[{index}]: {value:.3e} is beyond the world's limit {limit:.3e} (`max_distance` in m, `max_speed` in m/s, in [sim]; a rod at most twice `max_distance`): the run would stop at once")]
     BeyondLimit {
-        /// `particles` (distance from the origin) or `velocities` (speed).
+        /// `particles` (distance from the origin), `velocities` (speed) or
+        /// `rod_lengths` (m).
         field: &'static str,
-        /// The particle.
+        /// The particle (or rod).
         index: usize,
         /// Its distance (m) or speed (m/s).
         value: Real,

@@ -371,6 +371,19 @@ impl World {
         };
         within("particles", &data.position, limits.max_distance)?;
         within("velocities", &data.velocity, limits.max_speed)?;
+        // A rod longer than the world is wide cannot hold within it: its
+        // ends would run past the limit at the first step.
+        for (index, rod) in data.rods.iter().enumerate() {
+            let value = data.rod_length(rod);
+            if value > 2.0 * limits.max_distance {
+                return Err(BuildError::BeyondLimit {
+                    field: "rod_lengths",
+                    index,
+                    value,
+                    limit: 2.0 * limits.max_distance,
+                });
+            }
+        }
         let overflow = |field, index, value: Real, energy: Real| {
             (energy.is_nan() || energy >= crate::error::ENERGY_LIMIT).then_some(
                 BuildError::EnergyOverflow {
