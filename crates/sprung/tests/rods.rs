@@ -176,23 +176,30 @@ fn rods_do_no_work_and_keep_the_momentum_of_a_free_chain() {
     }
 }
 
+/// A chain of rods along +x, `spacing` (m) apart, of particles of
+/// `masses` (kg), its first particle pinned.
+fn pinned_chain(spacing: Real, masses: &[Real]) -> BodyData {
+    let positions: Vec<Vec3> = (0..masses.len())
+        .map(|i| Vec3::new(spacing * i as Real, 0.0, 0.0))
+        .collect();
+    let mut body = BodyData::from_positions(positions).with_pinned(vec![0]);
+    body.mass = masses.to_vec();
+    body.rods = (1..masses.len())
+        .map(|i| RodData {
+            first: i - 1,
+            second: i,
+            length: None,
+        })
+        .collect();
+    body
+}
+
 #[test]
 fn rods_left_off_their_lengths_are_counted_not_hidden() {
     // Three rods down to a 10 kg bob from 0.1 kg links, swinging from the
     // horizontal: with a single sweep per step (`constraint_iterations` =
     // 1) Gauss–Seidel cannot close the rods to 1e-9, and the world says so.
-    let positions: Vec<Vec3> = (0..4)
-        .map(|i| Vec3::new(0.3 * i as Real, 0.0, 0.0))
-        .collect();
-    let mut body = BodyData::from_positions(positions).with_pinned(vec![0]);
-    body.mass = vec![0.1, 0.1, 0.1, 10.0];
-    body.rods = (0..3)
-        .map(|i| RodData {
-            first: i,
-            second: i + 1,
-            length: None,
-        })
-        .collect();
+    let body = pinned_chain(0.3, &[0.1, 0.1, 0.1, 10.0]);
     let mut world = World::new(IntegratorKind::SymplecticEuler);
     world.settings.constraints.iterations = 1;
     world.add_body("chain", body).unwrap();
@@ -215,16 +222,7 @@ fn a_step_that_leaves_a_rod_far_off_its_length_fails() {
     // Claim: every step that succeeds leaves every rod within 1 % of its
     // length, and the run stops with the rod's body and error instead of
     // going on.
-    let positions: Vec<Vec3> = (0..6).map(|i| Vec3::new(i as Real, 0.0, 0.0)).collect();
-    let mut body = BodyData::from_positions(positions).with_pinned(vec![0]);
-    body.mass = vec![1.0, 1.0, 1.0, 1.0, 1.0, 1e5];
-    body.rods = (0..5)
-        .map(|i| RodData {
-            first: i,
-            second: i + 1,
-            length: None,
-        })
-        .collect();
+    let body = pinned_chain(1.0, &[1.0, 1.0, 1.0, 1.0, 1.0, 1e5]);
     let mut world = World::new(IntegratorKind::SymplecticEuler);
     world.add_body("chain", body).unwrap();
     let failure = (0..3000).find_map(|_| match world.step(1e-3) {
