@@ -5,8 +5,9 @@
 use std::path::Path;
 
 use sprung::error::Readable;
-use sprung::forces::{gravitating_particles, Gravitation, MAX_GRAVITATING};
-use sprung::{Real, Substeps};
+use sprung::forces::{gravitating_pairs, gravitating_particles, Gravitation, MAX_GRAVITATING};
+use sprung::world::MAX_SUBSTEPS;
+use sprung::{IntegratorKind, Real, Substeps};
 use sprung_io::load_scene;
 
 use crate::bench::memory;
@@ -80,19 +81,26 @@ pub fn run(path: &Path) -> Result<(), CliError> {
         let members = gravitating_particles(&world.bodies) as f64;
         println!(
             "  gravitation: {members} particles, {} pairs summed every step (at most {MAX_GRAVITATING} particles)",
-            Readable(members * (members - 1.0) / 2.0)
+            Readable(gravitating_pairs(members as usize))
         );
     }
-    let stable = world.stable_time_step();
+    // With the contacts the bodies start in.
+    let stable = world.stable_time_step_now();
     if stable.is_finite() {
         println!("  stable step of the explicit integrators: about {stable:.3e} s");
         let substeps = world.settings.substeps;
-        let explicit = !world.integrator().is_implicit();
+        let kind = world.integrator();
+        // The implicit solvers and rk45 (which picks its own steps, and
+        // is never split) are not limited by the estimate.
+        let explicit = !kind.is_implicit() && kind != IntegratorKind::Rk45;
         if explicit && substeps == Substeps::Auto && scene.dt > stable {
-            // The step splits itself: say how, rather than warn.
+            // The step splits itself, as `World::step` does (0.9 of the
+            // estimate): say how, rather than warn.
             println!(
                 "  substeps = \"auto\": about {} substeps a step at the start",
-                (scene.dt / (0.9 * stable)).ceil()
+                (scene.dt / (0.9 * stable))
+                    .ceil()
+                    .min(Real::from(MAX_SUBSTEPS))
             );
         } else if let (true, Substeps::Fixed(n)) = (explicit, substeps) {
             let substep = scene.dt / Real::from(n);

@@ -65,3 +65,22 @@ fn obj_frames_carry_smooth_vertex_normals() {
     assert!(text.contains("\no rope\ns off\nl "), "the rope as lines");
     assert!(rope.mesh.indices.is_empty() || rope.mesh.face_arities.iter().all(|&a| a == 2));
 }
+
+#[test]
+fn obj_lines_come_in_the_scenes_spring_order() {
+    // A body of lines lists its springs as `l` lines in the scene's order
+    // (the world stores them in its own: these came out [0,1], [3,0],
+    // [1,2], [2,3]).
+    let mut world = World::new(IntegratorKind::SymplecticEuler);
+    let xs = [0.0, 1.0, 2.0, 3.0];
+    let mut body = sprung::BodyData::from_positions(xs.map(|x| Vec3::new(x, 0.0, 0.0)).to_vec());
+    body.springs = [[2, 3], [1, 2], [0, 1], [3, 0]]
+        .map(|[a, b]| sprung::SpringData::between(a, b))
+        .to_vec();
+    world.add_body("x", body).expect("valid body");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = write_frame(dir.path(), 0, &world, FrameFormat::Obj).expect("frame");
+    let text = std::fs::read_to_string(&path).expect("read");
+    let lines: Vec<&str> = text.lines().filter(|l| l.starts_with("l ")).collect();
+    assert_eq!(lines, ["l 3 4", "l 2 3", "l 1 2", "l 4 1"]);
+}

@@ -956,7 +956,7 @@ fn turns_that_leave_the_plane_and_a_rigid_rope() {
     assert_error(
         &format!("{GOOD}{ring}rotate = [30.0, 0.0, 0.0]\n"),
         13,
-        &["body \"r\"", "out of the plane z = 0", "[0.0, 0.0, angle]"],
+        &["body \"r\"", "tilts this 2D body", "[0.0, 0.0, angle]"],
     );
     assert_error(
         &format!("{GOOD}{ring}rotate = [30.0, 0.0]\n"),
@@ -966,6 +966,9 @@ fn turns_that_leave_the_plane_and_a_rigid_rope() {
     let turned = format!("{GOOD}{ring}rotate = [0.0, 0.0, 30.0]\n");
     let scene = parse_scene(&turned, Path::new("good.toml")).expect("a turn in the plane");
     assert!(scene.world.particles.position.iter().all(|p| p.z == 0.0));
+    // Moved along z without a turn: in a plane of its own, accepted.
+    let moved = format!("{GOOD}{ring}translate = [0.0, 2.0, 1.0]\n");
+    parse_scene(&moved, Path::new("good.toml")).expect("a 2D body moved along z");
     let rope = "[[body]]\nname = \"r\"\nrope = { particles = 5, length = 1.0 }\nrigid = true\n";
     assert_error(
         &format!("{GOOD}{rope}"),

@@ -374,7 +374,7 @@ pub enum StepError {
     /// A rod stayed off its length by more than [`crate::constrain::ROD_FAILURE`]
     /// (relative) after the constrain stage's sweeps: the rods could not be
     /// held, and the motion is no longer that of the scene.
-    #[error("step {step} (t = {} s): rod {rod} of {body} is off its length by {:.1} % after constraint_iterations = {iterations} sweeps: the rods cannot be held at this step (rods between very unequal masses converge slowly: raise `constraint_iterations`, lower `dt`, or even out the masses; rods whose lengths cannot all hold at once, as between pinned particles or rigid bodies, never converge)", Seconds(*time), 100.0 * error)]
+    #[error("step {step} (t = {} s): rod {rod} of {body} is off its length by {error:.4e} (relative), beyond {limit:.1e}, after {sweeps} sweeps (constraint_iterations = {iterations}): the rods cannot be held at this step (rods between very unequal masses converge slowly: raise `constraint_iterations`, lower `dt`, or even out the masses; rods whose lengths cannot all hold at once, as between pinned particles or rigid bodies, never converge)", Seconds(*time))]
     RodOff {
         /// Number of the step that failed (1 = first step).
         step: u64,
@@ -386,7 +386,12 @@ pub enum StepError {
         body: String,
         /// Its relative length error, `|d - L| / L`.
         error: Real,
+        /// The error a step may leave: [`crate::constrain::ROD_FAILURE`],
+        /// or `constraint_tolerance` where that is looser.
+        limit: Real,
         /// The sweeps the stage took.
+        sweeps: u32,
+        /// The most sweeps it may take (`constraint_iterations`).
         iterations: u32,
     },
     /// The state became non-finite or ran away: the run must stop.

@@ -495,10 +495,16 @@ impl World {
     }
 
     /// Fail the step if a rod is off its length by more than
-    /// [`crate::constrain::ROD_FAILURE`] after the constrain stage.
+    /// [`crate::constrain::ROD_FAILURE`] after the constrain stage, or by
+    /// more than `constraint_tolerance` where that is looser.
     fn check_rods(&self) -> Result<(), StepError> {
-        let RodReport { error, worst, .. } = self.last_rods;
-        if error <= crate::constrain::ROD_FAILURE {
+        let RodReport {
+            error,
+            worst,
+            sweeps,
+        } = self.last_rods;
+        let limit = crate::constrain::ROD_FAILURE.max(self.settings.constraints.tolerance);
+        if error <= limit {
             return Ok(());
         }
         let body = self.bodies.iter().find(|b| b.rods.contains(&worst));
@@ -508,6 +514,8 @@ impl World {
             rod: body.map_or(worst, |b| worst - b.rods.start),
             body: body.map_or_else(|| "no body".into(), |b| format!("body \"{}\"", b.name)),
             error,
+            limit,
+            sweeps,
             iterations: self.settings.constraints.iterations,
         })
     }
@@ -605,7 +613,7 @@ impl World {
                     return 1;
                 }
                 // The step's own pairs: its detect stage has run.
-                let stable = 0.9 * self.stable_time_step_with(&self.contacts);
+                let stable = 0.9 * self.stable_time_step();
                 (dt / stable).ceil().clamp(1.0, MAX_SUBSTEPS as Real) as u32
             }
         }
@@ -1021,9 +1029,18 @@ impl World {
     }
 
     /// A stable time step for the explicit methods (s); see
-    /// [`measure::stable_time_step`]. Before the first step, with the
-    /// contacts the bodies start in (a detect stage run on a copy).
+    /// [`measure::stable_time_step`]. With the candidate contact pairs of
+    /// the last step (none before the first: see
+    /// [`World::stable_time_step_now`]).
     pub fn stable_time_step(&self) -> Real {
+        self.stable_time_step_with(&self.contacts)
+    }
+
+    /// [`World::stable_time_step`] with the contacts of the current state:
+    /// before the first step, those the bodies start in, found by a detect
+    /// stage run on a copy (a search, as costly as a step's: for a check
+    /// before a run, not for every frame).
+    pub fn stable_time_step_now(&self) -> Real {
         self.stable_time_step_with(&self.contacts_now())
     }
 

@@ -148,8 +148,7 @@ pub fn trial(plan: &Plan, kind: IntegratorKind, dt: Real) -> Result<Verdict, Cli
                 rod, body, error, ..
             }) => {
                 verdict = Verdict::Unstable(format!(
-                    "rod {rod} of {body} off its length by {:.1} % at step {step}",
-                    100.0 * error
+                    "rod {rod} of {body} off its length by {error:.3e} (relative) at step {step}"
                 ));
                 break;
             }

@@ -140,20 +140,21 @@ pub(crate) fn body_data(
             ),
         ));
     }
-    // A 2D body (bounded by segments) lies in z = 0, where its contacts
-    // take their sides; a turn that leaves the plane is refused here (a 2D
-    // gas body is refused on its `gas` line by the body's own check). A z
-    // of a billionth of the body's size is rounding (a half turn about x).
-    let size = data
-        .position
-        .iter()
-        .fold(0.0, |m: f64, p| m.max(p.x.abs()).max(p.y.abs()));
-    let off_plane = data.position.iter().any(|p| p.z.abs() > 1e-9 * size);
-    if !data.segments.is_empty() && data.gas.is_none() && off_plane {
+    // A 2D body (bounded by segments) lies in a plane of constant z, where
+    // its contacts take their sides: a turn that tilts that plane is
+    // refused here (a 2D gas body is refused on its `gas` line by the
+    // body's own check, which also holds it to z = 0). The turn alone
+    // decides: the z axis must stay the z axis (to rounding, as a half
+    // turn about x leaves it).
+    let axis = BodyData::from_positions(vec![Vec3::Z])
+        .placed(1.0, rotate, Vec3::ZERO)
+        .position[0];
+    let tilted = axis.x.abs() > 1e-9 || axis.y.abs() > 1e-9;
+    if !data.segments.is_empty() && data.gas.is_none() && tilted {
         return Err((
             "rotate",
             format!(
-                "`rotate` = {:?} turns this 2D body (it has segments) out of the plane z = 0, where 2D bodies lie: turn it about z, [0.0, 0.0, angle] (or half a turn about x or y, which flips it over)",
+                "`rotate` = {:?} tilts this 2D body (it has segments) out of its plane: turn it about z, [0.0, 0.0, angle] (or half a turn about x or y, which flips it over)",
                 rotate.to_array()
             ),
         ));

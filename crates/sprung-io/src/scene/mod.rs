@@ -20,7 +20,9 @@ pub use error::SceneError;
 use std::path::{Path, PathBuf};
 
 use sprung::build;
-use sprung::forces::{gravitating_particles, Gravitation, GRAVITATIONAL_CONSTANT, MAX_GRAVITATING};
+use sprung::forces::{
+    gravitating_pairs, gravitating_particles, Gravitation, GRAVITATIONAL_CONSTANT, MAX_GRAVITATING,
+};
 use sprung::integrate::{Preconditioner, SolverSettings};
 use sprung::world::MAX_SUBSTEPS;
 use sprung::{
@@ -219,7 +221,7 @@ pub fn parse_scene_with(
         if members > MAX_GRAVITATING {
             let message = format!(
                 "gravitation between {members} particles is a direct sum over {:.1e} pairs every step, beyond the {MAX_GRAVITATING} particles sprung takes (2e8 pairs, about a second a step): leave bodies out with `gravitating = false`",
-                members as f64 * (members as f64 - 1.0) / 2.0
+                gravitating_pairs(members)
             );
             return Err(at(table.span(), "gravitation", message));
         }

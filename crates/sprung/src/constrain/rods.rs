@@ -42,7 +42,8 @@ pub struct RodReport {
     pub sweeps: u32,
     /// Largest relative length error left, `|d - L| / L`.
     pub error: Real,
-    /// The rod with that error (the first of equal ones).
+    /// The rod with that error (its index in the world's [`Rods`]; the
+    /// first of equal ones).
     pub worst: usize,
 }
 

@@ -141,6 +141,7 @@ impl Buckets {
     /// of the particles, each thread reading every pair and taking those of
     /// its own particles: the same order whatever the number of threads.
     /// Where `width` is not positive, in no buckets (grouped by particle).
+    /// A pair whose particle is not below `particles` is left out.
     pub(crate) fn by_particle<P: Copy + Send + Sync>(
         chunks: &[Vec<P>],
         particle_of: fn(&P) -> u32,
@@ -158,11 +159,7 @@ impl Buckets {
         };
         let total: usize = chunks.iter().map(Vec::len).sum();
         let Some(&filler) = chunks.iter().find_map(|c| c.first()) else {
-            return if in_buckets {
-                buckets
-            } else {
-                Buckets::default()
-            };
+            return Buckets::empty(width);
         };
         let sizing = buckets.clone();
         let bucket_of = |nearest: Real| if in_buckets { sizing.of(nearest) } else { 0 };
@@ -210,7 +207,9 @@ impl Buckets {
         for b in 0..CLEARANCE_BUCKETS {
             buckets.start[b + 1] = buckets.start[b] + counts.iter().map(|c| c[b]).sum::<usize>();
         }
-        out.resize(total, filler);
+        // Pairs of particles beyond `particles` (none from the search)
+        // were counted nowhere, and are left out.
+        out.resize(buckets.start[CLEARANCE_BUCKETS], filler);
         // The output cut into its buckets, each share then takes its own
         // part of each.
         let mut rest = &mut out[..];
@@ -274,6 +273,22 @@ fn split_shares<P: Send>(
         || split_shares(left, shares.start..mid, share, low, counts, place),
         || split_shares(right, mid..shares.end, share, high, counts, place),
     );
+}
+
+impl Buckets {
+    /// The buckets of an empty list sorted with buckets `width` (m) wide
+    /// (none where the width is not positive), as [`Buckets::sort`] and
+    /// [`Buckets::by_particle`] give them.
+    pub(crate) fn empty(width: Real) -> Buckets {
+        if width > 0.0 && !width.is_nan() {
+            Buckets {
+                width,
+                start: [0; CLEARANCE_BUCKETS + 1],
+            }
+        } else {
+            Buckets::default()
+        }
+    }
 }
 
 /// The runs of `pairs`: neighbours for which `same_run` holds.
@@ -373,6 +388,21 @@ mod tests {
                 );
             }
         }
+        // A pair of a particle beyond `particles` is left out (not a copy
+        // of another pair in its place).
+        let mut out = Vec::new();
+        let beyond = vec![vec![(5, 0.0, 1), (100, 0.0, 2), (5, 1e-4, 3)]];
+        let buckets = Buckets::by_particle(
+            &beyond,
+            |p| p.0,
+            |p| p.1,
+            1e-3,
+            10,
+            &mut ByParticle::default(),
+            &mut out,
+        );
+        assert_eq!(out, vec![(5, 0.0, 1), (5, 1e-4, 3)]);
+        assert_eq!(buckets.start[CLEARANCE_BUCKETS], 2);
         let mut out = vec![(0, 0.0, 0)];
         let none = Buckets::by_particle(
             &[Vec::new()],

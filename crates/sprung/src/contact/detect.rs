@@ -623,7 +623,7 @@ impl Search<'_> {
     ) -> Buckets {
         out.clear();
         if elements(scratch).is_empty() || scratch.querying.is_empty() {
-            return Buckets::default();
+            return Buckets::empty(self.bucket_width);
         }
         let extent = scratch.element_boxes(elements, self.position, self.reach);
         let Scratch { grid, querying, .. } = scratch;
@@ -664,7 +664,7 @@ impl Search<'_> {
         );
         if self.budget.exceeded() {
             out.clear();
-            return Buckets::default();
+            return Buckets::empty(self.bucket_width);
         }
         Buckets::by_particle(
             chunks,

@@ -624,15 +624,13 @@ impl Touch {
             .sum()
     }
 
-    /// Add `force` to the first side and its opposite to the second, shared
-    /// by the weights.
+    /// Add `force` (N) to the first side and its opposite to the second,
+    /// shared by the weights.
     pub fn apply(&self, force: Vec3, out: &mut [Vec3]) {
-        for k in 0..self.count {
-            out[self.particles[k] as usize] += self.weights[k] * force;
-        }
+        self.apply_within(force, 0, out);
     }
 
-    /// [`Touch::apply`] to the particles of `share` only, the entries of
+    /// [`Touch::apply`] of `force` (N) to the particles of `share` only, the entries of
     /// particles `first..` (a thread's share of a parallel scatter,
     /// [`crate::parallel::for_each_share`]).
     #[inline(always)]

@@ -39,7 +39,7 @@ mod wind_field;
 pub use contact::PenaltyContacts;
 pub use drag::AirDrag;
 pub use gravitation::{
-    gravitating_particles, Gravitation, GRAVITATIONAL_CONSTANT, MAX_GRAVITATING,
+    gravitating_pairs, gravitating_particles, Gravitation, GRAVITATIONAL_CONSTANT, MAX_GRAVITATING,
 };
 pub use gravity::Gravity;
 pub use list::ForceList;
@@ -141,7 +141,8 @@ pub trait Force: Send + Sync + std::fmt::Debug + std::any::Any {
     /// methods' stable step counts it (a step of a damping rate `γ` is
     /// stable below `2 / γ`, [`crate::measure::stable_time_step`]). Nothing
     /// by default: the springs and contacts are counted there apart, and
-    /// most forces do not damp.
+    /// most forces do not damp (the colliders' penalty damping is not
+    /// counted either).
     fn add_damping_rates(&self, inverse_mass: &[Real], rate: &mut [Real]) {
         let _ = (inverse_mass, rate);
     }

@@ -34,6 +34,16 @@ impl Force for MouseSpring {
         }
     }
 
+    /// `c / m` on the grabbed particle (its stiffness is left out: the hand
+    /// is soft beside the springs it pulls).
+    fn add_damping_rates(&self, inverse_mass: &[Real], rate: &mut [Real]) {
+        if let (Some(rate), Some(w)) =
+            (rate.get_mut(self.particle), inverse_mass.get(self.particle))
+        {
+            *rate += self.damping * w;
+        }
+    }
+
     /// The hand does work on the system: its spring is not counted as part
     /// of the system's energy.
     fn add_energy(&self, _context: &ForceContext, _energies: &mut Energies) {}
