@@ -3,6 +3,8 @@
 //! smooth normal of the surface, faces in a smoothing group that point at
 //! their normals, and ropes as lines.
 
+mod common;
+
 use sprung::{build, IntegratorKind, Vec3, World};
 use sprung_io::export::{write_frame, FrameFormat};
 
@@ -72,12 +74,9 @@ fn obj_lines_come_in_the_scenes_spring_order() {
     // (the world stores them in its own: these came out [0,1], [3,0],
     // [1,2], [2,3]).
     let mut world = World::new(IntegratorKind::SymplecticEuler);
-    let xs = [0.0, 1.0, 2.0, 3.0];
-    let mut body = sprung::BodyData::from_positions(xs.map(|x| Vec3::new(x, 0.0, 0.0)).to_vec());
-    body.springs = [[2, 3], [1, 2], [0, 1], [3, 0]]
-        .map(|[a, b]| sprung::SpringData::between(a, b))
-        .to_vec();
-    world.add_body("x", body).expect("valid body");
+    world
+        .add_body("x", common::springs_out_of_order(0.0))
+        .expect("valid body");
     let dir = tempfile::tempdir().expect("tempdir");
     let path = write_frame(dir.path(), 0, &world, FrameFormat::Obj).expect("frame");
     let text = std::fs::read_to_string(&path).expect("read");

@@ -3,6 +3,8 @@
 //! `read_vtk_frame` reading them back exactly; other tools' files read;
 //! malformed files are errors naming the file and line, never panics.
 
+mod common;
+
 use std::path::Path;
 
 use sprung::{build, IntegratorKind, Vec3, World};
@@ -136,12 +138,9 @@ fn spring_cells_come_in_the_scenes_order() {
     world
         .add_body("before", build::rope(3, 1.0).expect("rope"))
         .expect("rope");
-    let xs = [0.0, 1.0, 2.0, 3.0];
-    let mut body = sprung::BodyData::from_positions(xs.map(|x| Vec3::new(x, 5.0, 0.0)).to_vec());
-    body.springs = [[2, 3], [1, 2], [0, 1], [3, 0]]
-        .map(|[a, b]| sprung::SpringData::between(a, b))
-        .to_vec();
-    world.add_body("x", body).expect("valid body");
+    world
+        .add_body("x", common::springs_out_of_order(5.0))
+        .expect("valid body");
     let frame = read(&frame_text(&world));
     let rope_springs = world.body("before").expect("rope").springs.len();
     let offset = world.body("x").expect("x").particles.start as u32;

@@ -86,11 +86,12 @@ pub fn stable_time_step(
     springs: &Springs,
     colliders: &[Collider],
     contacts: &Contacts,
-    rates: &[Real],
+    rates: Vec<Real>,
 ) -> Real {
     let n = particles.len();
     let mut stiffness_bound = vec![0.0; n];
-    let mut damping_bound = rates.to_vec();
+    // The damping bound starts from the forces' rates.
+    let mut damping_bound = rates;
     damping_bound.resize(n, 0.0);
     for s in 0..springs.len() {
         let (i, j) = (springs.first()[s] as usize, springs.second()[s] as usize);

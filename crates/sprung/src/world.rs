@@ -916,12 +916,8 @@ impl World {
             ..Energies::default()
         };
         let contacts = self.contacts_now();
-        let context = self.frame(&contacts).context(
-            self.time,
-            &self.particles.position,
-            &self.particles.velocity,
-        );
-        self.forces.add_energy(&context, &mut energies);
+        self.forces
+            .add_energy(&self.context_with(&contacts), &mut energies);
         energies
     }
 
@@ -960,24 +956,24 @@ impl World {
     /// The context forces see at the world's current state, to evaluate one
     /// force on its own.
     pub fn force_context(&self) -> ForceContext<'_> {
-        self.frame(&self.contacts).context(
-            self.time,
-            &self.particles.position,
-            &self.particles.velocity,
-        )
+        self.context_with(&self.contacts)
     }
 
-    /// What the forces see of the world, with `contacts` for its contact
-    /// state.
-    fn frame<'a>(&'a self, contacts: &'a Contacts) -> Frame<'a> {
-        Frame {
+    /// [`World::force_context`] with `contacts` for the contact state.
+    fn context_with<'a>(&'a self, contacts: &'a Contacts) -> ForceContext<'a> {
+        let frame = Frame {
             colliders: &self.colliders,
             contacts,
             springs: &self.springs,
             bodies: &self.bodies,
             mass: &self.particles.mass,
             inverse_mass: &self.particles.inverse_mass,
-        }
+        };
+        frame.context(
+            self.time,
+            &self.particles.position,
+            &self.particles.velocity,
+        )
     }
 
     /// Exact enclosed volume (m³), or area for a 2D body (m²), of body
@@ -1055,7 +1051,7 @@ impl World {
             &self.springs,
             &self.colliders,
             contacts,
-            &rates,
+            rates,
         )
     }
 }

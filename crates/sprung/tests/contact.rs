@@ -287,6 +287,17 @@ fn a_block_falling_onto_a_pinned_cloth_in_large_implicit_steps_is_caught_at_the_
     );
 }
 
+/// A 0.5 m cloth of `side × side` particles and `mass` (kg), 200 N/m,
+/// lying flat (turned into the xz-plane) with its corner at `at` (m).
+fn lying_cloth(side: usize, mass: Real, at: Vec3) -> sprung::BodyData {
+    build::cloth(side, side, 0.5, 0.5, ClothSprings::default())
+        .expect("valid cloth")
+        .with_total_mass(mass)
+        .with_stiffness(200.0)
+        .with_damping(0.05)
+        .placed(1.0, Vec3::new(90.0, 0.0, 0.0), at)
+}
+
 #[test]
 fn a_cloth_lands_on_a_body_of_two_huge_triangles_anywhere_on_it() {
     // The ground is a pinned 10 m square of two triangles; a 0.5 m cloth of
@@ -303,12 +314,7 @@ fn a_cloth_lands_on_a_body_of_two_huge_triangles_anywhere_on_it() {
         .with_pinned(vec![0, 1, 2, 3])
         .placed(1.0, Vec3::new(90.0, 0.0, 0.0), Vec3::ZERO);
     world.add_body("ground", ground).expect("valid body");
-    let cloth = build::cloth(20, 20, 0.5, 0.5, ClothSprings::default())
-        .expect("valid cloth")
-        .with_total_mass(0.1)
-        .with_stiffness(200.0)
-        .with_damping(0.05)
-        .placed(1.0, Vec3::new(90.0, 0.0, 0.0), Vec3::new(4.0, 0.05, 4.0));
+    let cloth = lying_cloth(20, 0.1, Vec3::new(4.0, 0.05, 4.0));
     world.add_body("cloth", cloth).expect("valid body");
     // The ground lies in y = 0 (to rounding of the turn) with x and z in
     // [0, 10], under the cloth.
@@ -423,12 +429,7 @@ fn many_touches_add_their_forces_to_the_same_bits_on_any_number_of_threads() {
     let run = |threads: usize| {
         sprung::parallel::with_threads(threads, || {
             let mut world = World::new(IntegratorKind::SymplecticEuler);
-            let cloth = build::cloth(70, 70, 0.5, 0.5, ClothSprings::default())
-                .expect("valid cloth")
-                .with_total_mass(1.0)
-                .with_stiffness(200.0)
-                .with_damping(0.05)
-                .placed(1.0, Vec3::new(90.0, 0.0, 0.0), Vec3::new(0.0, 0.004, 0.0));
+            let cloth = lying_cloth(70, 1.0, Vec3::new(0.0, 0.004, 0.0));
             world.add_body("cloth", cloth).expect("valid body");
             let (corners, faces) =
                 box_surface(Vec3::new(-0.5, -0.5, -0.5), Vec3::new(1.5, 0.5, 1.5));

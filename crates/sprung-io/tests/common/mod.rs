@@ -33,3 +33,17 @@ pub fn without_panic<T>(f: impl FnOnce() -> T) -> Result<T, String> {
             .unwrap_or_default()
     })
 }
+
+/// Four particles on a line 1 m apart at height `y` (m), whose springs
+/// are listed `[2, 3], [1, 2], [0, 1], [3, 0]`: an order the world does
+/// not store them in (it puts runs first), to check that outputs keep the
+/// scene's.
+pub fn springs_out_of_order(y: f64) -> sprung::BodyData {
+    let xs = [0.0, 1.0, 2.0, 3.0];
+    let mut body =
+        sprung::BodyData::from_positions(xs.map(|x| sprung::Vec3::new(x, y, 0.0)).to_vec());
+    body.springs = [[2, 3], [1, 2], [0, 1], [3, 0]]
+        .map(|[a, b]| sprung::SpringData::between(a, b))
+        .to_vec();
+    body
+}

@@ -24,6 +24,20 @@ pub(crate) struct Buckets {
 }
 
 impl Buckets {
+    /// The buckets of an empty list sorted with buckets `width` (m) wide
+    /// (none where the width is not positive), as [`Buckets::sort`] and
+    /// [`Buckets::by_particle`] give them.
+    pub(crate) fn empty(width: Real) -> Buckets {
+        if width > 0.0 && !width.is_nan() {
+            Buckets {
+                width,
+                start: [0; CLEARANCE_BUCKETS + 1],
+            }
+        } else {
+            Buckets::default()
+        }
+    }
+
     /// The bucket of a clearance (m).
     pub(crate) fn of(&self, clearance: Real) -> usize {
         ((clearance / self.width) as usize).min(CLEARANCE_BUCKETS - 1)
@@ -57,17 +71,11 @@ impl Buckets {
         same_run: impl Fn(&P, &P) -> bool,
         spare: &mut Vec<P>,
     ) -> Buckets {
-        if width <= 0.0 || width.is_nan() {
-            return Buckets::default();
+        let mut buckets = Buckets::empty(width);
+        if buckets.width == 0.0 {
+            return buckets;
         }
-        let mut buckets = Buckets {
-            width,
-            start: [0; CLEARANCE_BUCKETS + 1],
-        };
-        let sizing = Buckets {
-            width,
-            start: [0; CLEARANCE_BUCKETS + 1],
-        };
+        let sizing = Buckets::empty(width);
         let bucket_of_run = |run: &Range<usize>| {
             let nearest = pairs[run.clone()]
                 .iter()
@@ -152,16 +160,13 @@ impl Buckets {
         out: &mut Vec<P>,
     ) -> Buckets {
         out.clear();
-        let in_buckets = width > 0.0 && !width.is_nan();
-        let mut buckets = Buckets {
-            width,
-            start: [0; CLEARANCE_BUCKETS + 1],
-        };
-        let total: usize = chunks.iter().map(Vec::len).sum();
+        let mut buckets = Buckets::empty(width);
         let Some(&filler) = chunks.iter().find_map(|c| c.first()) else {
-            return Buckets::empty(width);
+            return buckets;
         };
-        let sizing = buckets.clone();
+        let in_buckets = buckets.width > 0.0;
+        let total: usize = chunks.iter().map(Vec::len).sum();
+        let sizing = Buckets::empty(width);
         let bucket_of = |nearest: Real| if in_buckets { sizing.of(nearest) } else { 0 };
         let threads = if total <= parallel::CHUNK || particles <= parallel::CHUNK {
             1
@@ -273,22 +278,6 @@ fn split_shares<P: Send>(
         || split_shares(left, shares.start..mid, share, low, counts, place),
         || split_shares(right, mid..shares.end, share, high, counts, place),
     );
-}
-
-impl Buckets {
-    /// The buckets of an empty list sorted with buckets `width` (m) wide
-    /// (none where the width is not positive), as [`Buckets::sort`] and
-    /// [`Buckets::by_particle`] give them.
-    pub(crate) fn empty(width: Real) -> Buckets {
-        if width > 0.0 && !width.is_nan() {
-            Buckets {
-                width,
-                start: [0; CLEARANCE_BUCKETS + 1],
-            }
-        } else {
-            Buckets::default()
-        }
-    }
 }
 
 /// The runs of `pairs`: neighbours for which `same_run` holds.

@@ -630,9 +630,9 @@ impl Touch {
         self.apply_within(force, 0, out);
     }
 
-    /// [`Touch::apply`] of `force` (N) to the particles of `share` only, the entries of
-    /// particles `first..` (a thread's share of a parallel scatter,
-    /// [`crate::parallel::for_each_share`]).
+    /// [`Touch::apply`] of `force` (N) to the particles of `share` only,
+    /// the entries of particles `first..` (a thread's share of a parallel
+    /// scatter, [`crate::parallel::for_each_share`]).
     #[inline(always)]
     pub fn apply_within(&self, force: Vec3, first: usize, share: &mut [Vec3]) {
         for k in 0..self.count {
