@@ -460,7 +460,7 @@ impl World {
             self.collide();
             if let Some(contact_force) = self.forces.get::<BodyContacts>() {
                 self.contacts.apply_friction(
-                    contact_force.pushes(),
+                    contact_force.pieces(),
                     &mut self.particles.position,
                     &mut self.particles.velocity,
                     &self.particles.inverse_mass,

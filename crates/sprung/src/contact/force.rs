@@ -54,6 +54,12 @@ impl BodyContacts {
             .iter()
             .zip(self.pushes.iter().flatten().copied())
     }
+
+    /// The touches of the last evaluation piece by piece, and the normal
+    /// force (N) each pushed with, piece by piece as well.
+    pub(crate) fn pieces(&self) -> (&[Vec<Touch>], &[Vec<Real>]) {
+        (self.touches.pieces(), &self.pushes)
+    }
 }
 
 /// The stiffness and damping of `touch` in `context` (from the mass of its

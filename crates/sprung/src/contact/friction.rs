@@ -25,22 +25,49 @@
 //! had acted at the start of the (sub)step: otherwise each step's sliding,
 //! taken before the friction stops it, would add up to a steady creep of a
 //! resting body (`g sin θ dt` per second on a slope). The touches are taken
-//! in their fixed order, each seeing the velocities the earlier ones left.
+//! in a fixed order, each seeing the velocities the earlier ones left.
+//!
+//! **The order, and the threads.** The touches are taken in groups that
+//! share no particle, so that threads can take groups side by side and
+//! the result is the same whatever their number. A touch's particles lie
+//! in `[lowest, lowest + span]`; with a group width `W` (a power of two,
+//! chosen from the touches alone: the least, from [`MIN_GROUP`], under
+//! which seven touches in eight span fewer than `W` particles), a touch
+//! spanning fewer is in group `⌊lowest / W⌋` and writes only within `[g
+//! W, (g + 2) W)`. First the even groups, side by side, then the odd
+//! ones, each in the touches' order; last, on one thread, the touches
+//! that span `W` or more, in order. A body's particles are numbered
+//! together, so the touches between neighbouring bodies span little.
 //!
 //! [`BodyContacts`]: super::BodyContacts
 
+use rayon::prelude::*;
+
 use super::pairs::Touch;
 use super::Contacts;
+use crate::parallel;
 use crate::{Real, Vec3};
+
+/// The narrowest group of particles (a power of two) friction takes
+/// touches by: narrower ones would leave the threads too little each.
+pub const MIN_GROUP: u64 = 256;
+
+/// The friction stage's buffers, kept from step to step.
+#[derive(Debug, Clone, Default)]
+pub(super) struct FrictionScratch {
+    /// Per piece of touches, each touch's lowest particle and the span of
+    /// its particles (highest less lowest).
+    extent: Vec<Vec<[u32; 2]>>,
+}
 
 impl Contacts {
     /// Apply friction impulses to `velocity` (m/s) for the touches of
-    /// `pushes`, each with the normal force (N) it pushed with over a
-    /// (sub)step of `dt` (s), moving `position` (m) by the velocity change
-    /// times `dt`.
-    pub(crate) fn apply_friction<'a>(
-        &self,
-        pushes: impl Iterator<Item = (&'a Touch, Real)>,
+    /// `touches` (piece by piece), each with the normal force (N) of
+    /// `pushes` it pushed with over a (sub)step of `dt` (s), moving
+    /// `position` (m) by the velocity change times `dt`.
+    pub(crate) fn apply_friction(
+        &mut self,
+        (touches, pushes): (&[Vec<Touch>], &[Vec<Real>]),
         position: &mut [Vec3],
         velocity: &mut [Vec3],
         inverse_mass: &[Real],
@@ -50,25 +77,112 @@ impl Contacts {
         if friction == 0.0 || self.pairs.is_empty() {
             return;
         }
-        for (touch, push) in pushes {
-            let relative = touch.relative(velocity);
-            let normal_speed = relative.dot(touch.normal);
-            let sliding = relative - normal_speed * touch.normal;
-            let speed = sliding.length();
-            let inverse_effective_mass: Real = (0..touch.count)
-                .map(|i| touch.weights[i].powi(2) * inverse_mass[touch.particles[i] as usize])
-                .sum();
-            if push == 0.0 || speed == 0.0 || inverse_effective_mass == 0.0 {
-                continue;
-            }
-            let impulse = (speed / inverse_effective_mass).min(friction * push * dt);
-            let along = -impulse / speed * sliding;
-            for i in 0..touch.count {
-                let p = touch.particles[i] as usize;
-                let change = touch.weights[i] * inverse_mass[p] * along;
-                velocity[p] += change;
-                position[p] += change * dt;
+        let extent = &mut self.friction.extent;
+        extent.resize_with(touches.len(), Vec::new);
+        // Each touch's lowest particle and span, and how many touches span
+        // fewer than 2^b particles, for each b (an exact count: the same
+        // whatever the threads).
+        let measure = |(extent, touches): (&mut Vec<[u32; 2]>, &Vec<Touch>)| {
+            let mut spans = [0_usize; 33];
+            extent.clear();
+            extent.extend(touches.iter().map(|touch| {
+                let particles = &touch.particles[..touch.count];
+                let lowest = particles.iter().copied().min().unwrap_or(0);
+                let span = particles.iter().copied().max().unwrap_or(0) - lowest;
+                spans[(u32::BITS - span.leading_zeros()) as usize] += 1;
+                [lowest, span]
+            }));
+            spans
+        };
+        let add = |a: [usize; 33], b: [usize; 33]| std::array::from_fn(|k| a[k] + b[k]);
+        let total: usize = touches.iter().map(Vec::len).sum();
+        let spans = if total > parallel::CHUNK {
+            extent
+                .par_iter_mut()
+                .zip(touches)
+                .map(measure)
+                .reduce(|| [0; 33], add)
+        } else {
+            extent
+                .iter_mut()
+                .zip(touches)
+                .map(measure)
+                .fold([0; 33], add)
+        };
+        let mut fewer = 0;
+        let mut width = 1_u64 << 32;
+        for (bits, count) in spans.iter().enumerate() {
+            fewer += count;
+            if 1 << bits >= MIN_GROUP && 8 * fewer >= 7 * total {
+                width = 1 << bits;
+                break;
             }
         }
+        let extent = &*extent;
+        let each = |f: &mut dyn FnMut(&Touch, Real, [u32; 2])| {
+            for ((touches, pushes), extent) in touches.iter().zip(pushes).zip(extent) {
+                for ((touch, &push), &bounds) in touches.iter().zip(pushes).zip(extent) {
+                    f(touch, push, bounds);
+                }
+            }
+        };
+        let slide = |touch: &Touch, push: Real, first: usize, x: &mut [Vec3], v: &mut [Vec3]| {
+            slide(touch, push, (first, x, v), inverse_mass, friction, dt);
+        };
+        let grouped = |span: u32| u64::from(span) < width;
+        for parity in [0, 1] {
+            let offset = usize::try_from(parity * width).unwrap_or(usize::MAX);
+            let align = usize::try_from(2 * width).unwrap_or(usize::MAX);
+            let slices = (&mut *position, &mut *velocity);
+            parallel::for_each_aligned_share(slices, align, offset, |first, (x, v)| {
+                let end = first + x.len();
+                each(&mut |touch, push, [lowest, span]| {
+                    let (lowest, group) = (lowest as usize, u64::from(lowest) / width);
+                    if grouped(span) && group % 2 == parity && (first..end).contains(&lowest) {
+                        slide(touch, push, first, x, v);
+                    }
+                });
+            });
+        }
+        each(&mut |touch, push, [_, span]| {
+            if !grouped(span) {
+                slide(touch, push, 0, position, velocity);
+            }
+        });
+    }
+}
+
+/// The friction impulse of one touch, which pushed with `push` (N), on the
+/// entries of particles `first..` of positions `x` (m) and velocities `v`
+/// (m/s), with friction coefficient `friction` over a (sub)step of `dt`
+/// (s).
+#[inline(always)]
+fn slide(
+    touch: &Touch,
+    push: Real,
+    (first, x, v): (usize, &mut [Vec3], &mut [Vec3]),
+    inverse_mass: &[Real],
+    friction: Real,
+    dt: Real,
+) {
+    let particle = |i: usize| touch.particles[i] as usize;
+    let relative: Vec3 = (0..touch.count)
+        .map(|i| touch.weights[i] * v[particle(i) - first])
+        .sum();
+    let normal_speed = relative.dot(touch.normal);
+    let sliding = relative - normal_speed * touch.normal;
+    let speed = sliding.length();
+    let inverse_effective_mass: Real = (0..touch.count)
+        .map(|i| touch.weights[i].powi(2) * inverse_mass[particle(i)])
+        .sum();
+    if push == 0.0 || speed == 0.0 || inverse_effective_mass == 0.0 {
+        return;
+    }
+    let impulse = (speed / inverse_effective_mass).min(friction * push * dt);
+    let along = -impulse / speed * sliding;
+    for i in 0..touch.count {
+        let change = touch.weights[i] * inverse_mass[particle(i)] * along;
+        v[particle(i) - first] += change;
+        x[particle(i) - first] += change * dt;
     }
 }

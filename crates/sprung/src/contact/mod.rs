@@ -177,4 +177,5 @@ pub struct Contacts {
     scratch: detect::Scratch,
     found: detect::Found,
     links: links::Links,
+    friction: friction::FrictionScratch,
 }

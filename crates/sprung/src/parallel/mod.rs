@@ -313,6 +313,54 @@ pub fn for_each_share<T: Send>(out: &mut [T], f: impl Fn(usize, &mut [T]) + Sync
         .for_each(|(i, entries)| f(i * share, entries));
 }
 
+/// Call `f(first, shares)` on consecutive shares of `slices`, one per
+/// thread, in parallel, cut only at indices `offset + k align` (`k`
+/// whole); `first` is the index of the share's first entry. For a loop
+/// whose items each write within a window `[g align/2, (g + 2) align/2)`
+/// that starts at a cut (the friction's groups of particles): each window
+/// lies in one share. With one thread, or at most [`CHUNK`] entries, one
+/// share on the calling thread.
+pub fn for_each_aligned_share<S: SplitMut>(
+    slices: S,
+    align: usize,
+    offset: usize,
+    f: impl Fn(usize, S) + Sync,
+) {
+    /// Cut `slices` (entries `first..`) for `threads` threads: at the
+    /// cut nearest past its middle share, halving the threads.
+    fn run<S: SplitMut>(
+        slices: S,
+        first: usize,
+        threads: usize,
+        (align, offset): (usize, usize),
+        f: &(impl Fn(usize, S) + Sync),
+    ) {
+        let len = slices.len();
+        let left = threads / 2;
+        let target = first + (len * left).div_ceil(threads.max(1));
+        let cut = if target <= offset {
+            offset
+        } else {
+            offset + (target - offset).div_ceil(align) * align
+        };
+        if left == 0 || cut <= first || cut >= first + len {
+            f(first, slices);
+            return;
+        }
+        let (before, after) = slices.split_at(cut - first);
+        rayon::join(
+            || run(before, first, left, (align, offset), f),
+            || run(after, cut, threads - left, (align, offset), f),
+        );
+    }
+    let threads = threads();
+    if threads <= 1 || slices.len() <= CHUNK || align == 0 {
+        f(0, slices);
+        return;
+    }
+    run(slices, 0, threads, (align, offset), &f);
+}
+
 /// Slices of equal length (one, or a tuple of them) that can be cut at an
 /// index into two sets of slices; [`for_each_span`] hands the pieces to
 /// threads.
@@ -466,6 +514,49 @@ mod tests {
                 shares = count.into_inner();
             });
             assert_eq!(shares, 1);
+        }
+    }
+
+    #[test]
+    fn aligned_shares_cover_every_entry_once_and_are_cut_only_where_asked() {
+        // Claim: `for_each_aligned_share` hands out consecutive shares that
+        // cover two slices of 10 007 entries exactly once, each with the
+        // index of its first entry, every cut at `offset + k align`: on 1,
+        // 2, 3 and 7 threads, with cuts every 512 from 0 and from 256 (the
+        // friction's even and odd groups of 256), and every 3000 from 1000
+        // (cuts far coarser than the shares); more than one share only
+        // where there are threads to take them.
+        for threads in [1, 2, 3, 7] {
+            for (align, offset) in [(512, 0), (512, 256), (3000, 1000)] {
+                let (mut a, mut b) = (vec![0; 10_007], vec![0; 10_007]);
+                let firsts = std::sync::Mutex::new(Vec::new());
+                Pool::new(threads).expect("a pool").install(|| {
+                    for_each_aligned_share(
+                        (&mut a[..], &mut b[..]),
+                        align,
+                        offset,
+                        |first, (a, b)| {
+                            firsts.lock().expect("not poisoned").push(first);
+                            for (k, (a, b)) in a.iter_mut().zip(b).enumerate() {
+                                *a += 1;
+                                *b = first + k;
+                            }
+                        },
+                    );
+                });
+                let case = format!("{threads} threads, cuts at {offset} + k {align}");
+                assert!(a.iter().all(|&n| n == 1), "{case}");
+                assert!(b.iter().enumerate().all(|(i, &j)| i == j), "{case}");
+                let firsts = firsts.into_inner().expect("not poisoned");
+                assert!(firsts.len() <= threads, "{case}: {firsts:?}");
+                assert!(threads == 1 || firsts.len() > 1, "{case}: one share");
+                assert!(
+                    firsts
+                        .iter()
+                        .all(|&f| f == 0 || (f >= offset && (f - offset) % align == 0)),
+                    "{case}: {firsts:?}"
+                );
+            }
         }
     }
 
