@@ -26,9 +26,30 @@ pub struct BodyContacts {
     active: Vec<Active>,
     /// The touches of the last evaluation (kept for their buffers).
     touches: Touches,
-    /// The normal force (N) of each touch at the last evaluation, piece by
-    /// piece of the touches.
-    pushes: Vec<Vec<Real>>,
+    /// The normal force of each touch at the last evaluation and where its
+    /// particles lie, piece by piece of the touches.
+    pushes: Vec<Vec<Pushed>>,
+    /// How many touches of the last evaluation span how many particles.
+    spans: Spans,
+}
+
+/// A count of touches per bit length of their spans (highest particle less
+/// lowest): entry `b` counts those spanning `2^(b-1)` to `2^b - 1`
+/// particles (entry 0, one particle), the last entry those spanning
+/// `2^30` or more.
+pub(crate) type Spans = [usize; 32];
+
+/// One touch as the last evaluation pushed it: its normal force, and
+/// where its particles lie (what the threads adding its force and its
+/// friction choose it by).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Pushed {
+    /// The normal force (N), not negative.
+    pub push: Real,
+    /// The touch's lowest particle.
+    pub lowest: u32,
+    /// Its highest particle less its lowest.
+    pub span: u32,
 }
 
 /// A pushing pair at the linearisation state.
@@ -47,18 +68,10 @@ impl BodyContacts {
         BodyContacts::default()
     }
 
-    /// The touches of the last evaluation, with the normal force (N) each
-    /// pushed with.
-    pub(crate) fn pushes(&self) -> impl Iterator<Item = (&Touch, Real)> + Clone {
-        self.touches
-            .iter()
-            .zip(self.pushes.iter().flatten().copied())
-    }
-
-    /// The touches of the last evaluation piece by piece, and the normal
-    /// force (N) each pushed with, piece by piece as well.
-    pub(crate) fn pieces(&self) -> (&[Vec<Touch>], &[Vec<Real>]) {
-        (self.touches.pieces(), &self.pushes)
+    /// The touches of the last evaluation piece by piece, how each pushed
+    /// (piece by piece as well), and the count of their spans.
+    pub(crate) fn pieces(&self) -> (&[Vec<Touch>], &[Vec<Pushed>], &Spans) {
+        (self.touches.pieces(), &self.pushes, &self.spans)
     }
 }
 
@@ -82,41 +95,64 @@ impl Force for BodyContacts {
             contacts.settings.thickness,
         );
         // The normal forces, piece by piece of the touches, in parallel
-        // when there are many.
+        // when there are many; with the touches' spans, counted exactly (the
+        // same whatever the threads).
         let pieces = self.touches.pieces();
         self.pushes.resize_with(pieces.len(), Vec::new);
-        let normal_forces = |(touches, pushes): (&Vec<Touch>, &mut Vec<Real>)| {
+        let normal_forces = |(touches, pushes): (&Vec<Touch>, &mut Vec<Pushed>)| {
+            let mut spans: Spans = [0; 32];
             pushes.clear();
             pushes.extend(touches.iter().map(|touch| {
                 let (k, c) = coefficients(context, touch);
                 let normal_speed = touch.relative(context.velocity).dot(touch.normal);
-                (k * touch.depth - c * normal_speed).max(0.0)
+                let [lowest, highest] = touch.extent();
+                let span = highest - lowest;
+                spans[((u32::BITS - span.leading_zeros()) as usize).min(31)] += 1;
+                Pushed {
+                    push: (k * touch.depth - c * normal_speed).max(0.0),
+                    lowest,
+                    span,
+                }
             }));
+            spans
         };
+        let add = |a: Spans, b: Spans| std::array::from_fn(|k| a[k] + b[k]);
         let many = self.touches.len() > parallel::CHUNK;
-        if many {
+        self.spans = if many {
             pieces
                 .par_iter()
                 .zip(self.pushes.par_iter_mut())
-                .for_each(normal_forces);
+                .map(normal_forces)
+                .reduce(|| [0; 32], add)
         } else {
             pieces
                 .iter()
                 .zip(self.pushes.iter_mut())
-                .for_each(normal_forces);
-        }
+                .map(normal_forces)
+                .fold([0; 32], add)
+        };
         // Added in the touches' order: a random scatter, each thread into
-        // its own share of the particles when there are many.
-        let pushes = self.pushes();
+        // its own share of the particles when there are many, taking the
+        // touches whose particles reach into it.
+        let touches = || {
+            pieces
+                .iter()
+                .zip(&self.pushes)
+                .flat_map(|(touches, pushes)| touches.iter().zip(pushes))
+        };
         if many {
             parallel::for_each_share(force, |first, share| {
-                for (touch, push) in pushes.clone() {
-                    touch.apply_within(push * touch.normal, first, share);
+                let end = first + share.len();
+                for (touch, pushed) in touches() {
+                    let lowest = pushed.lowest as usize;
+                    if lowest < end && lowest + pushed.span as usize >= first {
+                        touch.apply_within(pushed.push * touch.normal, first, share);
+                    }
                 }
             });
         } else {
-            for (touch, push) in pushes {
-                touch.apply(push * touch.normal, force);
+            for (touch, pushed) in touches() {
+                touch.apply(pushed.push * touch.normal, force);
             }
         }
     }

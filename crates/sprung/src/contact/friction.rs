@@ -41,8 +41,7 @@
 //!
 //! [`BodyContacts`]: super::BodyContacts
 
-use rayon::prelude::*;
-
+use super::force::{Pushed, Spans};
 use super::pairs::Touch;
 use super::Contacts;
 use crate::parallel;
@@ -52,22 +51,15 @@ use crate::{Real, Vec3};
 /// touches by: narrower ones would leave the threads too little each.
 pub const MIN_GROUP: u64 = 256;
 
-/// The friction stage's buffers, kept from step to step.
-#[derive(Debug, Clone, Default)]
-pub(super) struct FrictionScratch {
-    /// Per piece of touches, each touch's lowest particle and the span of
-    /// its particles (highest less lowest).
-    extent: Vec<Vec<[u32; 2]>>,
-}
-
 impl Contacts {
     /// Apply friction impulses to `velocity` (m/s) for the touches of
-    /// `touches` (piece by piece), each with the normal force (N) of
-    /// `pushes` it pushed with over a (sub)step of `dt` (s), moving
-    /// `position` (m) by the velocity change times `dt`.
+    /// `touches` (piece by piece), each with the normal force (N) it
+    /// pushed with over a (sub)step of `dt` (s) and its particles' extent
+    /// in `pushed` (piece by piece too), moving `position` (m) by the
+    /// velocity change times `dt`; `spans` counts the touches' spans.
     pub(crate) fn apply_friction(
-        &mut self,
-        (touches, pushes): (&[Vec<Touch>], &[Vec<Real>]),
+        &self,
+        (touches, pushed, spans): (&[Vec<Touch>], &[Vec<Pushed>], &Spans),
         position: &mut [Vec3],
         velocity: &mut [Vec3],
         inverse_mass: &[Real],
@@ -77,38 +69,7 @@ impl Contacts {
         if friction == 0.0 || self.pairs.is_empty() {
             return;
         }
-        let extent = &mut self.friction.extent;
-        extent.resize_with(touches.len(), Vec::new);
-        // Each touch's lowest particle and span, and how many touches span
-        // fewer than 2^b particles, for each b (an exact count: the same
-        // whatever the threads).
-        let measure = |(extent, touches): (&mut Vec<[u32; 2]>, &Vec<Touch>)| {
-            let mut spans = [0_usize; 33];
-            extent.clear();
-            extent.extend(touches.iter().map(|touch| {
-                let particles = &touch.particles[..touch.count];
-                let lowest = particles.iter().copied().min().unwrap_or(0);
-                let span = particles.iter().copied().max().unwrap_or(0) - lowest;
-                spans[(u32::BITS - span.leading_zeros()) as usize] += 1;
-                [lowest, span]
-            }));
-            spans
-        };
-        let add = |a: [usize; 33], b: [usize; 33]| std::array::from_fn(|k| a[k] + b[k]);
-        let total: usize = touches.iter().map(Vec::len).sum();
-        let spans = if total > parallel::CHUNK {
-            extent
-                .par_iter_mut()
-                .zip(touches)
-                .map(measure)
-                .reduce(|| [0; 33], add)
-        } else {
-            extent
-                .iter_mut()
-                .zip(touches)
-                .map(measure)
-                .fold([0; 33], add)
-        };
+        let total: usize = spans.iter().sum();
         let mut fewer = 0;
         let mut width = 1_u64 << 32;
         for (bits, count) in spans.iter().enumerate() {
@@ -118,11 +79,10 @@ impl Contacts {
                 break;
             }
         }
-        let extent = &*extent;
-        let each = |f: &mut dyn FnMut(&Touch, Real, [u32; 2])| {
-            for ((touches, pushes), extent) in touches.iter().zip(pushes).zip(extent) {
-                for ((touch, &push), &bounds) in touches.iter().zip(pushes).zip(extent) {
-                    f(touch, push, bounds);
+        let each = |f: &mut dyn FnMut(&Touch, &Pushed)| {
+            for (touches, pushed) in touches.iter().zip(pushed) {
+                for (touch, pushed) in touches.iter().zip(pushed) {
+                    f(touch, pushed);
                 }
             }
         };
@@ -136,17 +96,19 @@ impl Contacts {
             let slices = (&mut *position, &mut *velocity);
             parallel::for_each_aligned_share(slices, align, offset, |first, (x, v)| {
                 let end = first + x.len();
-                each(&mut |touch, push, [lowest, span]| {
-                    let (lowest, group) = (lowest as usize, u64::from(lowest) / width);
-                    if grouped(span) && group % 2 == parity && (first..end).contains(&lowest) {
-                        slide(touch, push, first, x, v);
+                each(&mut |touch, pushed| {
+                    let lowest = pushed.lowest as usize;
+                    let group = u64::from(pushed.lowest) / width;
+                    if grouped(pushed.span) && group % 2 == parity && (first..end).contains(&lowest)
+                    {
+                        slide(touch, pushed.push, first, x, v);
                     }
                 });
             });
         }
-        each(&mut |touch, push, [_, span]| {
-            if !grouped(span) {
-                slide(touch, push, 0, position, velocity);
+        each(&mut |touch, pushed| {
+            if !grouped(pushed.span) {
+                slide(touch, pushed.push, 0, position, velocity);
             }
         });
     }

@@ -177,5 +177,4 @@ pub struct Contacts {
     scratch: detect::Scratch,
     found: detect::Found,
     links: links::Links,
-    friction: friction::FrictionScratch,
 }

@@ -506,11 +506,6 @@ impl Touches {
         }
     }
 
-    /// The touches of the last measure, in order.
-    pub fn iter(&self) -> impl Iterator<Item = &Touch> + Clone {
-        self.found.iter().flatten()
-    }
-
     /// The touches of the last measure, in order, as pieces of a thread
     /// each (some may be empty).
     pub fn pieces(&self) -> &[Vec<Touch>] {
@@ -622,6 +617,15 @@ impl Touch {
         (0..self.count)
             .map(|k| self.weights[k] * v[self.particles[k] as usize])
             .sum()
+    }
+
+    /// The touch's lowest and highest particles.
+    pub fn extent(&self) -> [u32; 2] {
+        let particles = &self.particles[..self.count];
+        [
+            particles.iter().copied().min().unwrap_or(0),
+            particles.iter().copied().max().unwrap_or(0),
+        ]
     }
 
     /// Add `force` (N) to the first side and its opposite to the second,
