@@ -1026,3 +1026,21 @@ fn a_rod_longer_than_the_world_is_refused() {
     let long = format!("{GOOD}rods = [[0, 2]]\nrod_lengths = [3.0]\n");
     parse_scene(&long, Path::new("good.toml")).expect("a rod within the world");
 }
+
+#[test]
+fn an_entry_of_an_array_over_several_lines_is_named_on_its_own_line() {
+    // The springs, masses and pins written one entry a line (with a
+    // comment): the error points at the bad entry's line, not the key's.
+    let springs = variant(
+        "springs = [[0, 1], [1, 2]]",
+        "springs = [\n  [0, 1], # first\n  [1, 9],\n]",
+    );
+    assert_error(&springs, 10, &["`springs`[1] = [1, 9]", "out of range"]);
+    let masses = variant("mass = 1.0", "masses = [\n  1.0,\n  1.0,\n  -2.0,\n]");
+    assert_error(&masses, 12, &["`masses`[2] = -2", "must be positive"]);
+    let pinned = variant("mass = 1.0", "mass = 1.0\npinned = [\n  0,\n  7,\n]");
+    assert_error(&pinned, 12, &["`pinned`[1] = 7", "out of range"]);
+    // On one line, the key's line, as before.
+    let one_line = variant("[[0, 1], [1, 2]]", "[[0, 1], [1, 9]]");
+    assert_error(&one_line, 8, &["`springs`[1] = [1, 9]"]);
+}

@@ -66,28 +66,117 @@ pub(crate) fn key_before(text: &str, offset: usize) -> Option<&str> {
 /// for a dotted key `table.key` the line of `table`. Tries each of `keys`
 /// in turn (a mass may have been given as `mass`, `masses` or `total_mass`).
 pub(crate) fn line_of_key(text: &str, start: usize, keys: &[&str]) -> Option<usize> {
+    keys.iter()
+        .find_map(|key| offset_of_key(text, start, key))
+        .map(|offset| line_of(text, offset))
+}
+
+/// The byte offset in `text` of the line of the first `key = ...` in the
+/// table that starts at byte `start`, as [`line_of_key`] finds it.
+fn offset_of_key(text: &str, start: usize, key: &str) -> Option<usize> {
     let start = text
         .get(..start.min(text.len()))?
         .rfind('\n')
         .map_or(0, |i| i + 1);
     let section = text.get(start..)?;
-    keys.iter().find_map(|key| {
-        let key = key.split(['.', '[']).next().unwrap_or(key);
-        let mut offset = start;
-        for (number, line) in section.split_inclusive('\n').enumerate() {
-            let trimmed = line.trim();
-            if number > 0 && is_table_header(trimmed) {
-                break;
+    let key = key.split(['.', '[']).next().unwrap_or(key);
+    let mut offset = start;
+    for (number, line) in section.split_inclusive('\n').enumerate() {
+        let trimmed = line.trim();
+        if number > 0 && is_table_header(trimmed) {
+            break;
+        }
+        if let Some(rest) = trimmed.strip_prefix(key) {
+            if rest.trim_start().starts_with('=') {
+                return Some(offset);
             }
-            if let Some(rest) = trimmed.strip_prefix(key) {
-                if rest.trim_start().starts_with('=') {
-                    return Some(line_of(text, offset));
+        }
+        offset += line.len();
+    }
+    None
+}
+
+/// The 1-based line of the entry a `message` names as `` `key`[i] ``, for
+/// the key of `keys` that [`line_of_key`] finds, in the array that is its
+/// value in the table that starts at byte `start` of `text`: an array
+/// written over several lines is pointed at the entry, not at its first
+/// line. `None` when the message names no entry of that key or the entry
+/// is not found.
+pub(crate) fn line_of_entry(
+    text: &str,
+    start: usize,
+    keys: &[&str],
+    message: &str,
+) -> Option<usize> {
+    let (key, line) = keys
+        .iter()
+        .find_map(|key| Some((key, offset_of_key(text, start, key)?)))?;
+    let named = format!("`{key}`[");
+    let at = message.find(&named)? + named.len();
+    let digits = &message[at..];
+    let index: usize = digits[..digits.find(']')?].parse().ok()?;
+    let value = line + text[line..].find('=')? + 1;
+    let entry = offset_of_array_entry(&text[value..], index)?;
+    Some(line_of(text, value + entry))
+}
+
+/// The byte offset in `value` (a TOML value, from just after its `=`) of
+/// entry `index` of the array it starts with: strings, comments and nested
+/// arrays and tables passed over. `None` if it is no array or is shorter.
+fn offset_of_array_entry(value: &str, index: usize) -> Option<usize> {
+    let open = value.find(|c: char| !c.is_whitespace())?;
+    if !value[open..].starts_with('[') {
+        return None;
+    }
+    let (mut depth, mut entry, mut expecting) = (0_usize, 0_usize, true);
+    let mut chars = value[open..].char_indices().map(|(i, c)| (open + i, c));
+    while let Some((i, c)) = chars.next() {
+        match c {
+            '#' => {
+                // A comment, to the end of its line.
+                for (_, c) in chars.by_ref() {
+                    if c == '\n' {
+                        break;
+                    }
+                }
+                continue;
+            }
+            c if c.is_whitespace() => continue,
+            _ => {}
+        }
+        if depth == 1 && expecting && c != ']' && c != ',' {
+            if entry == index {
+                return Some(i);
+            }
+            expecting = false;
+        }
+        match c {
+            '[' | '{' => depth += 1,
+            ']' | '}' => {
+                depth = depth.checked_sub(1)?;
+                if depth == 0 {
+                    return None;
                 }
             }
-            offset += line.len();
+            ',' if depth == 1 => {
+                entry += 1;
+                expecting = true;
+            }
+            '"' | '\'' => {
+                // A string, to its closing quote (a basic string's `\"`
+                // escaped).
+                let mut escaped = false;
+                for (_, d) in chars.by_ref() {
+                    if d == c && !escaped {
+                        break;
+                    }
+                    escaped = c == '"' && d == '\\' && !escaped;
+                }
+            }
+            _ => {}
         }
-        None
-    })
+    }
+    None
 }
 
 /// `[name]` or `[[name]]`: a table header, not the line of an array.
@@ -99,4 +188,28 @@ fn is_table_header(line: &str) -> bool {
         && inner
             .chars()
             .all(|c| c.is_alphanumeric() || c == '_' || c == '.' || c == '-')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_entry_of_an_array_over_several_lines_is_found_on_its_line() {
+        // Entries after comments, strings holding brackets and commas, and
+        // nested arrays and tables; past the end, none.
+        let text = "[[body]]\nname = \"a\"\npinned = [ # the corners\n  0, \"x,]\",\n  [1, 2],\n  { a = [3, 4] },\n  99,\n]\n";
+        let line = |index| line_of_entry(text, 0, &["pinned"], &format!("`pinned`[{index}] = 99"));
+        assert_eq!(line(0), Some(4));
+        assert_eq!(line(1), Some(4));
+        assert_eq!(line(2), Some(5));
+        assert_eq!(line(3), Some(6));
+        assert_eq!(line(4), Some(7));
+        assert_eq!(line(5), None);
+        assert_eq!(
+            line_of_entry(text, 0, &["pinned"], "`pinned` is empty"),
+            None
+        );
+        assert_eq!(line_of_entry(text, 0, &["name"], "`name`[0]"), None);
+    }
 }

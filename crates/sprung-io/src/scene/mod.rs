@@ -31,7 +31,7 @@ use sprung::{
 };
 
 use bulk::BulkArrays;
-use error::{key_before, line_of, line_of_key};
+use error::{key_before, line_of, line_of_entry, line_of_key};
 use sections::Sections;
 use sprung::error::Readable;
 use tables::{BodySection, BodyTable, ColliderTable, SceneFile, SimTable, SubstepsValue};
@@ -134,8 +134,9 @@ pub fn parse_scene_with(
     let sim_span = file.sim.span();
     let at = |span: std::ops::Range<usize>, key: &str, message: String| {
         let keys = body::aliases(key);
-        let line =
-            line_of_key(text, span.start, &keys).unwrap_or_else(|| line_of(text, span.start));
+        let line = line_of_entry(text, span.start, &keys, &message)
+            .or_else(|| line_of_key(text, span.start, &keys))
+            .unwrap_or_else(|| line_of(text, span.start));
         SceneError::new(path, Some(line), message)
     };
     let sim = file.sim.get_ref();
