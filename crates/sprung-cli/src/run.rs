@@ -132,6 +132,11 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         .world
         .contact_pairs_now(scene.dt)
         .map_err(|e| CliError::Input(e.to_string()))?;
+    if resumed.is_none() {
+        for warning in crate::check::inside_colliders(&scene.world) {
+            eprintln!("warning: {warning}");
+        }
+    }
     // Rows this run will record, at most (for the animation's budget).
     let records = (steps - scene.world.steps()) / every + 2;
     let mut outputs = Outputs::open(

@@ -554,6 +554,55 @@ fn check_loads_a_scene_without_running_it() {
     );
 }
 
+#[test]
+fn a_body_that_starts_inside_a_collider_is_warned_about() {
+    // A 1 m cloth of 12 × 12 particles laid through the centre of a
+    // sphere of radius 0.3 m: the particles within 0.3 m of the centre
+    // (32 of them; the nearest 0.0643 m from it, so 0.236 m deep) are
+    // inside. The first steps push them onto the surface, and the cloth's
+    // springs take up tens of joules. Claims: `check` and `run` warn,
+    // naming the count, the body, the collider and the depth; with the
+    // sphere moved clear, neither warns; a pinned particle inside is not
+    // counted.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scene = "[sim]\ndt = 1e-3\nsteps = 2\n\n[[body]]\nname = \"cloth\"\ncloth = { nx = 12, ny = 12, width = 1.0, height = 1.0 }\nmass = 0.01\nstiffness = 50.0\nrotate = [90.0, 0.0, 0.0]\ntranslate = [-0.5, 0.0, -0.5]\n\n[[collider]]\nplane = { point = [0.0, -5.0, 0.0], normal = [0.0, 1.0, 0.0] }\n\n[[collider]]\nsphere = { center = [0.0, 0.0, 0.0], radius = 0.3 }\n";
+    let expected = "warning: 32 particles of body \"cloth\" start inside the sphere of collider 2";
+    write(dir.path(), "inside.toml", scene);
+    for args in [
+        &["check", "inside.toml"][..],
+        &["run", "inside.toml", "--quiet"],
+    ] {
+        let output = sprung(args, dir.path());
+        assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+        let stderr = text(&output.stderr);
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert!(stderr.contains("up to 2.357e-1 m deep"), "{stderr}");
+    }
+    write(
+        dir.path(),
+        "clear.toml",
+        &scene.replace("[0.0, 0.0, 0.0], radius", "[0.0, 2.0, 0.0], radius"),
+    );
+    let output = sprung(&["check", "clear.toml"], dir.path());
+    assert!(text(&output.stderr).is_empty(), "{}", text(&output.stderr));
+    // The centre particles pinned: 28 left (the four nearest the centre,
+    // numbered 65, 66, 77 and 78, are pinned).
+    write(
+        dir.path(),
+        "pinned.toml",
+        &format!("{scene}\n").replace(
+            "translate = [-0.5, 0.0, -0.5]",
+            "translate = [-0.5, 0.0, -0.5]\npinned = [65, 66, 77, 78]",
+        ),
+    );
+    let output = sprung(&["check", "pinned.toml"], dir.path());
+    assert!(
+        text(&output.stderr).contains("warning: 28 particles"),
+        "{}",
+        text(&output.stderr)
+    );
+}
+
 #[cfg(unix)]
 #[test]
 fn output_into_a_closed_pipe_ends_quietly() {

@@ -385,10 +385,12 @@ pub(crate) struct ColliderTable {
     pub penalty_damping: Option<f64>,
 }
 
-/// `sphere = { centre, radius }` on a collider.
+/// `sphere = { centre, radius }` on a collider (`center` accepted too, as
+/// `internal = "center"` is).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct SphereColliderTable {
+    #[serde(alias = "center")]
     pub centre: Vec<f64>,
     pub radius: f64,
 }
