@@ -27,17 +27,20 @@
 //! resting body (`g sin θ dt` per second on a slope). The touches are taken
 //! in a fixed order, each seeing the velocities the earlier ones left.
 //!
-//! **The order, and the threads.** The touches are taken in groups that
-//! share no particle, so that threads can take groups side by side and
-//! the result is the same whatever their number. A touch's particles lie
-//! in `[lowest, lowest + span]`; with a group width `W` (a power of two,
-//! chosen from the touches alone: the least, from [`MIN_GROUP`], under
-//! which seven touches in eight span fewer than `W` particles), a touch
-//! spanning fewer is in group `⌊lowest / W⌋` and writes only within `[g
-//! W, (g + 2) W)`. First the even groups, side by side, then the odd
-//! ones, each in the touches' order; last, on one thread, the touches
-//! that span `W` or more, in order. A body's particles are numbered
-//! together, so the touches between neighbouring bodies span little.
+//! **The order, and the threads.** The touches are taken in groups, so
+//! that threads can take groups side by side and the result is the same
+//! whatever their number. A touch's particles lie in `[lowest, lowest +
+//! span]`; with a group width `W` (a power of two, chosen from the
+//! touches alone: the least, from [`MIN_GROUP`], with `span < W` for seven
+//! touches in eight), a touch with `span < W` is in group `g = ⌊lowest /
+//! W⌋` and writes only within `[g W, (g + 2) W)`, so the groups of one
+//! parity share no particle. First the even groups, side by side, then
+//! the odd ones, each in the touches' order; last, on one thread, the
+//! touches with `span ≥ W`, in order. A body's particles are numbered
+//! together, so the touches between small neighbouring bodies (a pile of
+//! balls) span little; between large ones (two big cloths, a cloth
+//! folded on itself) the width grows with their spans, and with fewer
+//! groups than threads the threads go idle.
 //!
 //! [`BodyContacts`]: super::BodyContacts
 

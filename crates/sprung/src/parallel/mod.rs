@@ -338,15 +338,19 @@ pub fn for_each_aligned_share<S: SplitMut>(
         let len = slices.len();
         let left = threads / 2;
         let target = first + (len * left).div_ceil(threads.max(1));
+        // No cut where it would not fit in an index.
         let cut = if target <= offset {
-            offset
+            Some(offset)
         } else {
-            offset + (target - offset).div_ceil(align) * align
+            (target - offset)
+                .div_ceil(align)
+                .checked_mul(align)
+                .and_then(|k| k.checked_add(offset))
         };
-        if left == 0 || cut <= first || cut >= first + len {
+        let Some(cut) = cut.filter(|&cut| left > 0 && cut > first && cut < first + len) else {
             f(first, slices);
             return;
-        }
+        };
         let (before, after) = slices.split_at(cut - first);
         rayon::join(
             || run(before, first, left, (align, offset), f),
@@ -524,10 +528,13 @@ mod tests {
         // index of its first entry, every cut at `offset + k align`: on 1,
         // 2, 3 and 7 threads, with cuts every 512 from 0 and from 256 (the
         // friction's even and odd groups of 256), and every 3000 from 1000
-        // (cuts far coarser than the shares); more than one share only
-        // where there are threads to take them.
+        // (cuts far coarser than the shares), and every usize::MAX from 5
+        // (no cut fits in an index: one share, where the sum used to
+        // wrap around to a cut at 4); more than one share only where there
+        // are threads to take them.
         for threads in [1, 2, 3, 7] {
-            for (align, offset) in [(512, 0), (512, 256), (3000, 1000)] {
+            let huge = (usize::MAX, 5);
+            for (align, offset) in [(512, 0), (512, 256), (3000, 1000), huge] {
                 let (mut a, mut b) = (vec![0; 10_007], vec![0; 10_007]);
                 let firsts = std::sync::Mutex::new(Vec::new());
                 Pool::new(threads).expect("a pool").install(|| {
@@ -549,7 +556,13 @@ mod tests {
                 assert!(b.iter().enumerate().all(|(i, &j)| i == j), "{case}");
                 let firsts = firsts.into_inner().expect("not poisoned");
                 assert!(firsts.len() <= threads, "{case}: {firsts:?}");
-                assert!(threads == 1 || firsts.len() > 1, "{case}: one share");
+                // Cuts beyond the entries (or beyond any index): one share.
+                let cuts = (align, offset) != huge;
+                assert!(
+                    threads == 1 || firsts.len() > 1 || !cuts,
+                    "{case}: one share"
+                );
+                assert!(cuts || firsts == [0], "{case}: {firsts:?}");
                 assert!(
                     firsts
                         .iter()
