@@ -5,7 +5,9 @@
 use std::path::Path;
 
 use sprung::error::Readable;
-use sprung::forces::{gravitating_pairs, gravitating_particles, Gravitation, MAX_GRAVITATING};
+use sprung::forces::{
+    gravitating_pairs, gravitating_particles, Gravitation, Wind, MAX_GRAVITATING,
+};
 use sprung::world::MAX_SUBSTEPS;
 use sprung::{IntegratorKind, Real, Shape, Substeps, World};
 use sprung_io::load_scene;
@@ -110,8 +112,11 @@ pub fn run(path: &Path) -> Result<(), CliError> {
                 } else {
                     format!("dt = {} s", Readable(scene.dt))
                 };
+                // The estimate is a bound (Gershgorin's), below the real
+                // limit: say by how much the step passes it.
                 eprintln!(
-                    "warning: {what} is above the stable estimate {stable:.3e} s: {} will likely blow up (lower dt, use substeps = \"auto\", or an implicit integrator)",
+                    "warning: {what} is {:.2} times the stable estimate {stable:.3e} s, a conservative bound (`sprung study` measures the real limit): {} may blow up (lower dt, use substeps = \"auto\", or an implicit integrator)",
+                    substep / stable,
                     world.integrator()
                 );
             }
@@ -119,10 +124,42 @@ pub fn run(path: &Path) -> Result<(), CliError> {
     } else {
         println!("  stable step of the explicit integrators: unlimited (nothing stiff)");
     }
-    for warning in inside_colliders(world) {
+    for warning in start_warnings(world) {
         eprintln!("warning: {warning}");
     }
     Ok(())
+}
+
+/// What a user should know before running `world` that is not an error:
+/// bodies that start inside a collider, bodies the wind cannot touch.
+pub fn start_warnings(world: &World) -> Vec<String> {
+    let mut warnings = inside_colliders(world);
+    warnings.extend(windless(world));
+    warnings
+}
+
+/// One warning naming the bodies that `[wind]` blows on (a `wind_scale`
+/// above zero) but cannot push: wind acts on faces and 2D loops, and a
+/// rope, a lattice or a cloud of particles has neither.
+fn windless(world: &World) -> Option<String> {
+    let wind = world.forces.get::<Wind>()?;
+    let names: Vec<String> = world
+        .bodies
+        .iter()
+        .enumerate()
+        .filter(|(b, body)| {
+            let scale = wind.body_scale.get(*b).copied().unwrap_or(1.0);
+            scale > 0.0 && body.faces.is_empty() && body.segments.is_empty()
+        })
+        .map(|(_, body)| format!("\"{}\"", body.name))
+        .collect();
+    (!names.is_empty()).then(|| {
+        format!(
+            "[wind] does not act on {}: wind pushes on faces (3D surfaces) and segments (2D loops), and {} none (give a body faces to catch the wind, or `air_drag` for still air)",
+            names.join(", "),
+            if names.len() == 1 { "it has" } else { "they have" }
+        )
+    })
 }
 
 /// One warning for each body and collider where free particles of the
@@ -130,7 +167,7 @@ pub fn run(path: &Path) -> Result<(), CliError> {
 /// push them out onto its surface, and what joins them to the particles
 /// outside is stretched by as much (a cloth laid through a sphere gains
 /// tens of joules). Pinned particles are not moved and not counted.
-pub fn inside_colliders(world: &World) -> Vec<String> {
+fn inside_colliders(world: &World) -> Vec<String> {
     let particles = &world.particles;
     let mut warnings = Vec::new();
     for (k, collider) in world.colliders.iter().enumerate() {

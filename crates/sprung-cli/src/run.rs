@@ -133,7 +133,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         .contact_pairs_now(scene.dt)
         .map_err(|e| CliError::Input(e.to_string()))?;
     if resumed.is_none() {
-        for warning in crate::check::inside_colliders(&scene.world) {
+        for warning in crate::check::start_warnings(&scene.world) {
             eprintln!("warning: {warning}");
         }
     }
