@@ -694,7 +694,7 @@ fn bad_muscles() {
     );
 }
 
-/// `rigid = true` needs two particles and no pins.
+/// `rigid = true` needs two particles, no pins and no muscles.
 #[test]
 fn bad_rigid_bodies() {
     // GOOD has 9 lines: `[[body]]` is line 10, `rigid` line 13.
@@ -708,6 +708,14 @@ fn bad_rigid_bodies() {
         &format!("{GOOD}pinned = [0]\nrigid = true\n"),
         11,
         &["`rigid` = true", "`pinned`"],
+    );
+    // A muscle on a rigid body would drive a spring that moves nothing.
+    assert_error(
+        &format!(
+            "{GOOD}muscles = [{{ spring = 0, amplitude = 0.2, period = 1.0 }}]\nrigid = true\n"
+        ),
+        11,
+        &["`rigid` = true", "`muscles`", "moves nothing"],
     );
 }
 

@@ -384,6 +384,9 @@ impl BodyData {
         if self.rigid && !self.pinned.is_empty() {
             return Err(BuildError::RigidPinned);
         }
+        if self.rigid && !self.muscles.is_empty() {
+            return Err(BuildError::RigidMuscles);
+        }
         if self.contact.self_collision && self.faces.is_empty() && self.segments.is_empty() {
             return Err(BuildError::SelfCollisionWithoutSurface);
         }

@@ -150,6 +150,10 @@ pub enum BuildError {
     /// `rigid = true` on a body of fewer than two particles.
     #[error("`rigid` = true needs at least two particles")]
     RigidTooSmall,
+    /// `rigid = true` on a body with muscles: its shape is held, so a
+    /// muscle's changing rest length moves nothing.
+    #[error("`rigid` = true cannot be combined with `muscles` (a rigid body keeps its shape, so a muscle's spring moves nothing)")]
+    RigidMuscles,
     /// `rigid = true` on a body with pinned particles.
     #[error("`rigid` = true cannot be combined with `pinned` particles (a rope pins its first particle unless told `pinned = []`)")]
     RigidPinned,

@@ -547,7 +547,7 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         | BuildError::RodLoop { .. }
         | BuildError::PinnedRod { .. } => "rods",
         BuildError::MuscleSpringOutOfRange { .. } | BuildError::BadMuscle { .. } => "muscles",
-        BuildError::RigidTooSmall | BuildError::RigidPinned => "rigid",
+        BuildError::RigidTooSmall | BuildError::RigidPinned | BuildError::RigidMuscles => "rigid",
         BuildError::BeyondLimit { field, .. } | BuildError::EnergyOverflow { field, .. } => field,
     }
 }
