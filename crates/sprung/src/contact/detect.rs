@@ -496,6 +496,25 @@ impl Scratch {
     }
 }
 
+/// Whether a particle of `particle` against an element of body `body`
+/// pushes along the element's outward normal, whatever side the particle
+/// is on: against a closed surface of another body (a particle that got
+/// inside is pushed out). Against an open surface, or its own closed one
+/// (a hollow ball collapsing onto itself: its particles meet their own
+/// surface from inside), it pushes to the side the particle was on when
+/// the pair was found.
+fn pushes_outward(bodies: &[Body], particle: u32, body: u32) -> bool {
+    let body = &bodies[body as usize];
+    body.closed && !body.particles.contains(&(particle as usize))
+}
+
+/// Whether a body's edges meet other edges: an open surface's, or a
+/// surface that collides with itself (two of its folds may cross edge
+/// to edge).
+fn edges_collide(body: &Body) -> bool {
+    !body.closed || body.contact.self_collision
+}
+
 /// Elements a thread takes at a time in the pair search.
 const QUERY_CHUNK: usize = 1024;
 
@@ -826,9 +845,10 @@ impl Contacts {
         let margin = thickness + closing;
         let reach = thickness + margin;
         scratch.searched(bodies, position, margin, settings);
-        // Edges against edges only where a surface is open (closed ones
-        // are kept apart by their particles and triangles alone).
-        let open = |b: &Body| b.contact.collide && !b.closed && !b.faces.is_empty();
+        // Edges against edges only where a surface is open or meets
+        // itself (closed ones are kept apart from each other by their
+        // particles and triangles alone).
+        let open = |b: &Body| b.contact.collide && edges_collide(b) && !b.faces.is_empty();
         scratch.collect(bodies, position, reach, bodies.iter().any(open));
         links.build(bodies, springs, position.len(), settings.thickness);
         let elements = scratch.querying.len()
@@ -857,8 +877,7 @@ impl Contacts {
             (&mut found.point_triangle, &mut pairs.point_triangle),
             (|pair| pair.particle, |pair| pair.clearance),
             |particle, [a, b, c], body| {
-                let closed = bodies[body as usize].closed;
-                let side = if closed {
+                let side = if pushes_outward(bodies, particle, body) {
                     1.0
                 } else {
                     let p = x(particle);
@@ -886,8 +905,7 @@ impl Contacts {
             (&mut found.point_segment, &mut pairs.point_segment),
             (|pair| pair.particle, |pair| pair.clearance),
             |particle, [a, b], body| {
-                let closed = bodies[body as usize].closed;
-                let side = if closed {
+                let side = if pushes_outward(bodies, particle, body) {
                     1.0
                 } else {
                     let p = x(particle);
@@ -912,10 +930,11 @@ impl Contacts {
         search.among(
             scratch,
             |s| &s.edges,
-            |body| !bodies[body as usize].closed,
+            |body| edges_collide(&bodies[body as usize]),
             (&mut found.edge_edge, &mut pairs.edge_edge),
             |([p1, q1], body1), ([p2, q2], body2)| {
-                if bodies[body1 as usize].closed && bodies[body2 as usize].closed {
+                let closed = |b: u32| bodies[b as usize].closed;
+                if closed(body1) && closed(body2) && body1 != body2 {
                     return None;
                 }
                 if p1 == p2 || p1 == q2 || q1 == p2 || q1 == q2 {

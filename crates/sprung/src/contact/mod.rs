@@ -67,11 +67,13 @@
 //! their memory growing with its square; the step is refused instead
 //! ([`crate::StepError::TooManyContacts`]), before anything moves.
 //!
-//! **Sides.** A closed surface pushes along its outward normal, so a
-//! particle that got inside is pushed out. An open surface (cloth) pushes
-//! towards the side the particle was on when the pair was found, at the
-//! start of the step, so a particle that crossed within a step is pushed
-//! back, not on through.
+//! **Sides.** A closed surface pushes another body's particles along its
+//! outward normal, so a particle that got inside is pushed out. An open
+//! surface (cloth), and a closed one its own particles (they meet it from
+//! inside when it folds in on itself), pushes towards the side the
+//! particle was on when the pair was found, at the start of the step, so
+//! a particle that crossed within a step is pushed back, not on through.
+//! Edges meet edges where a surface is open or collides with itself.
 
 pub mod geometry;
 pub mod grid;
