@@ -131,10 +131,24 @@ pub fn run(path: &Path) -> Result<(), CliError> {
 }
 
 /// What a user should know before running `world` that is not an error:
-/// bodies that start inside a collider, bodies the wind cannot touch.
+/// bodies that start inside a collider, bodies the wind cannot touch,
+/// `substeps = "auto"` with an integrator it does not split.
 pub fn start_warnings(world: &World) -> Vec<String> {
     let mut warnings = inside_colliders(world);
     warnings.extend(windless(world));
+    let kind = world.integrator();
+    if world.settings.substeps == Substeps::Auto
+        && (kind.is_implicit() || kind == IntegratorKind::Rk45)
+    {
+        warnings.push(format!(
+            "substeps = \"auto\" does nothing with {kind}: it splits the steps of the explicit fixed-step integrators ({}), where the stable step asks",
+            if kind == IntegratorKind::Rk45 {
+                "rk45 picks its own steps"
+            } else {
+                "the implicit solvers are stable at any step"
+            }
+        ));
+    }
     warnings
 }
 

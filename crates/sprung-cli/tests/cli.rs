@@ -624,6 +624,27 @@ fn wind_on_bodies_it_cannot_push_is_warned_about() {
     assert!(text(&output.stderr).is_empty(), "{}", text(&output.stderr));
 }
 
+#[test]
+fn automatic_substeps_with_an_integrator_they_do_not_split_are_warned_about() {
+    // `substeps = "auto"` splits explicit fixed-step integrators only.
+    // Claim: `check` says so for implicit_euler and rk45, and says nothing
+    // of it for symplectic Euler.
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (integrator, warned) in [
+        ("implicit_euler", true),
+        ("rk45", true),
+        ("symplectic_euler", false),
+    ] {
+        let scene = format!("[sim]\ndt = 1e-3\nsteps = 2\nsubsteps = \"auto\"\nintegrator = \"{integrator}\"\n\n[[body]]\nname = \"rope\"\nrope = {{ particles = 5, length = 1.0 }}\n");
+        write(dir.path(), "auto.toml", &scene);
+        let output = sprung(&["check", "auto.toml"], dir.path());
+        assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+        let stderr = text(&output.stderr);
+        let expected = format!("warning: substeps = \"auto\" does nothing with {integrator}");
+        assert_eq!(stderr.contains(&expected), warned, "{integrator}: {stderr}");
+    }
+}
+
 #[cfg(unix)]
 #[test]
 fn output_into_a_closed_pipe_ends_quietly() {

@@ -542,6 +542,27 @@ fn contact_and_substep_keys() {
     assert_error(&contact("friction = -1.0"), 12, &["friction", "negative"]);
     assert_error(&contact("stiffness = 0.0"), 12, &["stiffness"]);
     assert_error(&contact("radius = 1.0"), 12, &["radius"]);
+    // Against the world's limits (max_distance = max_speed = 1e6 by
+    // default): a thickness beyond the world or so thin that the default
+    // stiffness m (10 m/s / h)² overflows; a stiffness whose energy, or a
+    // damping whose work, within the limits passes 1e290 J.
+    assert_error(
+        &contact("thickness = 1e7"),
+        12,
+        &["thickness", "max_distance"],
+    );
+    assert_error(
+        &contact("thickness = 1e-200"),
+        12,
+        &["thickness", "overflows"],
+    );
+    assert_error(&contact("stiffness = 1e300"), 12, &["stiffness", "1e290 J"]);
+    assert_error(&contact("damping = 1e300"), 12, &["damping", "1e290 J"]);
+    assert!(parse_scene(
+        &contact("thickness = 1e6\nstiffness = 1e270\ndamping = 1e270"),
+        Path::new("good.toml")
+    )
+    .is_ok());
     assert!(parse_scene(
         &contact("thickness = 0.02\nfriction = 0.5"),
         Path::new("good.toml")
@@ -552,6 +573,13 @@ fn contact_and_substep_keys() {
         &variant("mass = 1.0", "mass = 1.0\nself_collision = true"),
         10,
         &["self_collision", "surface"],
+    );
+    // ... and contact: left out of contact, a body meets nothing.
+    let surface = "[[body]]\nname = \"r\"\nring = { particles = 8, radius = 0.5 }\ncollide = false\nself_collision = true\n";
+    assert_error(
+        &format!("{GOOD}{surface}"),
+        14,
+        &["self_collision", "needs `collide` = true"],
     );
     let scene = parse_scene(
         &variant("mass = 1.0", "mass = 1.0\ncollide = false"),

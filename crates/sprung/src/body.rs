@@ -390,6 +390,9 @@ impl BodyData {
         if self.contact.self_collision && self.faces.is_empty() && self.segments.is_empty() {
             return Err(BuildError::SelfCollisionWithoutSurface);
         }
+        if self.contact.self_collision && !self.contact.collide {
+            return Err(BuildError::SelfCollisionWithoutCollide);
+        }
         Ok(())
     }
 

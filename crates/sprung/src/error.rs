@@ -272,6 +272,9 @@ pub enum BuildError {
     /// Self-collision asked of a body with no faces or segments.
     #[error("`self_collision` needs a surface: give the body `faces` (3D) or `segments` (2D); bodies without one collide with others as particles")]
     SelfCollisionWithoutSurface,
+    /// Self-collision asked of a body that does not collide.
+    #[error("`self_collision` = true needs `collide` = true: a body left out of contact does not collide with itself either")]
+    SelfCollisionWithoutCollide,
     /// A gas in a body with no faces or segments.
     #[error("`gas` needs a closed surface: give the body `faces` (3D) or `segments` (2D), or use a ring, sphere or closed mesh")]
     GasWithoutSurface,

@@ -589,7 +589,9 @@ impl World {
     fn validate_settings(&self) -> Result<(), BuildError> {
         self.settings.constraints.validate()?;
         self.settings.solver.validate()?;
-        self.contacts.settings.validate()?;
+        self.contacts
+            .settings
+            .validate_within(self.settings.max_distance, self.settings.max_speed)?;
         if self.settings.substeps == Substeps::Fixed(0) {
             return Err(BuildError::OutOfRange {
                 field: "substeps",

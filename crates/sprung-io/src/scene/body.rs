@@ -539,7 +539,9 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::GasWithoutSurface
         | BuildError::OpenSurface { .. }
         | BuildError::GasOffPlane { .. } => "gas",
-        BuildError::SelfCollisionWithoutSurface => "self_collision",
+        BuildError::SelfCollisionWithoutSurface | BuildError::SelfCollisionWithoutCollide => {
+            "self_collision"
+        }
         BuildError::DuplicateName(_) | BuildError::BadName(_) => "name",
         BuildError::RodIndexOutOfRange { .. }
         | BuildError::BadRodLength { .. }

@@ -232,7 +232,7 @@ pub fn parse_scene_with(
         return Err(at(span.clone(), "gravitating", message));
     }
     if let Some(table) = &file.contact {
-        world.contacts.settings = contact(table.get_ref())
+        world.contacts.settings = contact(table.get_ref(), &world.settings)
             .map_err(|(key, m)| at(table.span(), key, format!("contact: {m}")))?;
     }
     let camera = match &file.camera {
@@ -558,7 +558,10 @@ fn collider(table: &ColliderTable) -> Result<Collider, KeyError> {
     Ok(collider)
 }
 
-fn contact(table: &tables::ContactTable) -> Result<ContactSettings, KeyError> {
+fn contact(
+    table: &tables::ContactTable,
+    limits: &sprung::world::Settings,
+) -> Result<ContactSettings, KeyError> {
     let defaults = ContactSettings::default();
     let settings = ContactSettings {
         enabled: table.enabled.unwrap_or(defaults.enabled),
@@ -567,13 +570,15 @@ fn contact(table: &tables::ContactTable) -> Result<ContactSettings, KeyError> {
         stiffness: table.stiffness,
         damping: table.damping,
     };
-    settings.validate().map_err(|e| {
-        let key = match body::key_of(&e) {
-            k if k.starts_with("contact.") => &k["contact.".len()..],
-            k => k,
-        };
-        (key, e.to_string())
-    })?;
+    settings
+        .validate_within(limits.max_distance, limits.max_speed)
+        .map_err(|e| {
+            let key = match body::key_of(&e) {
+                k if k.starts_with("contact.") => &k["contact.".len()..],
+                k => k,
+            };
+            (key, e.to_string())
+        })?;
     Ok(settings)
 }
 

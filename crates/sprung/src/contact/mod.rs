@@ -157,6 +157,42 @@ impl ContactSettings {
         Ok(())
     }
 
+    /// [`ContactSettings::validate`], and the settings against the world's
+    /// limits (`max_distance` in m, `max_speed` in m/s; see
+    /// [`crate::world::Settings`]): a thickness beyond `max_distance`
+    /// (every particle would touch everything within the world), or so thin
+    /// that the default stiffness `m (v_ref / h)²` overflows; a stiffness
+    /// whose energy, or a damping whose work, within the limits could
+    /// exceed [`crate::error::ENERGY_LIMIT`] (as a spring's).
+    pub fn validate_within(&self, max_distance: Real, max_speed: Real) -> Result<(), BuildError> {
+        self.validate()?;
+        let rate = REFERENCE_SPEED / self.thickness;
+        if self.thickness > max_distance || !(rate * rate).is_finite() {
+            return Err(BuildError::OutOfRange {
+                field: "contact.thickness",
+                value: self.thickness,
+                reason: "must lie within the world's `max_distance` (m), and not be so thin that the default stiffness m (10 m/s / thickness)² overflows",
+            });
+        }
+        let reach = 2.0 * max_distance;
+        let limit = crate::error::ENERGY_LIMIT;
+        if let Some(k) = self.stiffness.filter(|&k| 0.5 * k * reach * reach >= limit) {
+            return Err(BuildError::OutOfRange {
+                field: "contact.stiffness",
+                value: k,
+                reason: "too large: the energy of a contact within the world's limits (`max_distance` in [sim]) could exceed the 1e290 J the diagnostics can sum",
+            });
+        }
+        if let Some(c) = self.damping.filter(|&c| c * max_speed * reach >= limit) {
+            return Err(BuildError::OutOfRange {
+                field: "contact.damping",
+                value: c,
+                reason: "too large: the work of a contact's damping within the world's limits (`max_distance`, `max_speed` in [sim]) could exceed the 1e290 J the diagnostics can sum",
+            });
+        }
+        Ok(())
+    }
+
     /// The penalty stiffness (N/m) and damping (N·s/m) of a contact whose
     /// particle has mass `mass` (kg).
     pub fn coefficients(&self, mass: Real) -> (Real, Real) {
