@@ -317,3 +317,37 @@ fn a_sliding_rigid_cube_stops_where_coulomb_friction_says() {
         );
     }
 }
+
+#[test]
+fn a_rigid_cube_rests_on_a_slope_below_the_friction_angle_and_slides_above() {
+    // Gravity tilted by θ onto a floor with μ = 0.5 (friction angle
+    // 26.6°), the cube resting on a face. At 20° friction holds it: over
+    // 2 s its centre moves less than 1e-7 m, a quarter of one step's fall
+    // g dt² = 4e-7 m (it settles by some 1e-9 m); before, each step's
+    // sliding, taken before friction stopped it, crept on at g sin θ dt =
+    // 0.67 mm/s, 1.3 mm in the 2 s. At 35° it slides at g (sin θ - μ cos θ) = 1.609 m/s²:
+    // s = a t² / 2 after 1 s, to 0.1 % (symplectic Euler's s differs from
+    // a t² / 2 by a dt / 2 t, 1e-4 relative at dt = 2e-4 s).
+    let (mu, g, dt): (Real, Real, Real) = (0.5, 9.81, 2e-4);
+    for degrees in [20.0, 35.0] {
+        let theta = Real::to_radians(degrees);
+        let mut world = cube_over_floor(IntegratorKind::SymplecticEuler, 0.0, Vec3::ZERO, 0.0, mu);
+        world.set_gravity(g * Vec3::new(theta.sin(), -theta.cos(), 0.0));
+        let start = centre_of_mass(&world);
+        let seconds = if degrees < 26.0 { 2.0 } else { 1.0 };
+        for _ in 0..(seconds / dt).round() as usize {
+            world.step(dt).unwrap();
+        }
+        let moved = centre_of_mass(&world) - start;
+        if degrees < 26.0 {
+            assert!(moved.length() < 1e-7, "{degrees}°: moved {moved} m");
+        } else {
+            let expected = 0.5 * g * (theta.sin() - mu * theta.cos()) * seconds * seconds;
+            assert!(
+                (moved.x - expected).abs() <= 1e-3 * expected,
+                "{degrees}°: slid {} m, Coulomb says {expected} m",
+                moved.x
+            );
+        }
+    }
+}

@@ -23,7 +23,11 @@
 //! there, `1/k = 1/M + n·((I⁻¹ (r × n)) × r)`, so that it leaves at the
 //! restitution times its approach speed, with a Coulomb friction impulse
 //! of at most the friction coefficient times the normal one (a few passes
-//! over the touching particles, as sequential impulses). Below
+//! over the touching particles, as sequential impulses); the body then
+//! moves by the impulses' change of its motion times the step (less the
+//! part along the surface's normal, which moving it out took care of), as
+//! if they had acted from the start of the step, so a body at rest on a
+//! slope stays put. Below
 //! `rest_speed` (the speed gravity gives in two steps, at least
 //! [`crate::world::RESTING_SPEED`]) a contact is treated as resting: no
 //! restitution, so a body at rest does not rock.
@@ -211,6 +215,7 @@ impl RigidBody {
                 (distance <= rest_speed * dt + 1e-9 * (1.0 + p.length())).then_some(normal)
             };
             let motion = &mut self.motion;
+            let start = *motion;
             self.pushed.clear();
             self.pushed.resize(x.len(), 0.0);
             self.rubbed.clear();
@@ -255,6 +260,25 @@ impl RigidBody {
                     }
                 }
             }
+            // The body moves by the impulses' change of its motion times
+            // `dt`, as if they had acted from the start of the step (less
+            // the part along the surface's normal, which the shift out
+            // took care of): otherwise each step's sliding, taken before
+            // friction stops it, adds up to a creep (`g sin θ dt` per
+            // second on a slope) of a body at rest.
+            let (normal, before) = (deepest.1, start);
+            let along = motion.drift - before.drift;
+            let (drift, spin) = (
+                along - along.dot(normal) * normal,
+                motion.spin - before.spin,
+            );
+            let turn = DQuat::from_scaled_axis(spin * dt);
+            let (centre, step) = (motion.centre, drift * dt);
+            for p in x.iter_mut() {
+                *p = centre + step + turn * (*p - centre);
+            }
+            motion.centre += step;
+            self.rotation = (turn * self.rotation).normalize();
         }
         if touched {
             for (v, p) in v.iter_mut().zip(x.iter()) {

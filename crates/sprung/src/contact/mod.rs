@@ -20,8 +20,9 @@
 //! unchanged with every integrator, explicit or implicit (its Jacobian,
 //! `-k n nᵀ` on the relative motion, joins the implicit solves, so stiff
 //! contacts are stable at large steps), it has an energy (`½ k (h - d)²`, the
-//! `contact` term), and it is smooth, which the higher-order integrators
-//! need. Its stiffness bounds the explicit time step like a spring does;
+//! `contact` term), and it is continuous in the positions (its damping
+//! starts with the touch, though: a jump the adaptive `rk45` meets with
+//! very small steps where contacts keep starting). Its stiffness bounds the explicit time step like a spring does;
 //! `substeps = "auto"` accounts for it. By default the stiffness is chosen
 //! per contact from the particle's mass: `k = m (v_ref / h)²` with
 //! `v_ref =` [`REFERENCE_SPEED`], so that a particle arriving at that
