@@ -1080,3 +1080,26 @@ fn an_entry_of_an_array_over_several_lines_is_named_on_its_own_line() {
     let one_line = variant("[[0, 1], [1, 2]]", "[[0, 1], [1, 9]]");
     assert_error(&one_line, 8, &["`springs`[1] = [1, 9]"]);
 }
+
+#[test]
+fn tables_and_keys_given_twice_or_as_lists_are_named() {
+    // GOOD has 9 lines. A `[contact]` table written as a list of tables
+    // (the parser's own words: "invalid type: map, expected a boolean"),
+    // a table given twice, a key given twice (the parser's: "duplicate
+    // key", naming neither).
+    assert_error(
+        &format!("{GOOD}[[contact]]\nthickness = 0.02\n"),
+        10,
+        &["`[[contact]]`", "one table, written `[contact]`"],
+    );
+    assert_error(
+        &format!("{GOOD}[contact]\nthickness = 0.02\n[contact]\nfriction = 0.1\n"),
+        12,
+        &["`[contact]` is given twice"],
+    );
+    assert_error(
+        &variant("mass = 1.0", "mass = 1.0\nmass = 2.0"),
+        10,
+        &["`mass` is given twice in its table"],
+    );
+}

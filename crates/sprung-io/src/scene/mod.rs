@@ -293,12 +293,59 @@ fn parse_toml<T: serde::de::DeserializeOwned>(
         let start = e.span().map(|s| offset + s.start);
         let line = start.map(|s| line_of(text, s));
         let message = e.message().trim();
-        let message = match start.and_then(|s| key_before(text, s)) {
-            Some(key) if !message.contains(&format!("`{key}`")) => format!("`{key}`: {message}"),
-            _ => message.to_string(),
+        // A table header: `[[contact]]` for the one `[contact]` table, or
+        // a table given twice.
+        let header = start
+            .and_then(|s| text.get(..s.min(text.len())))
+            .map(|before| {
+                let from = before.rfind('\n').map_or(0, |i| i + 1);
+                let end = text[from..].find('\n').map_or(text.len(), |i| from + i);
+                text[from..end].trim()
+            })
+            .filter(|line| line.starts_with('['));
+        let name = header.map(|h| {
+            h.trim_start_matches('[')
+                .split(']')
+                .next()
+                .unwrap_or("")
+                .trim()
+        });
+        let message = match (header, name) {
+            (Some(h), Some(name)) if h.starts_with("[[") && message.starts_with("invalid type") => {
+                format!(
+                    "`[[{name}]]`: `{name}` is one table, written `[{name}]`, not a list of them"
+                )
+            }
+            (Some(_), Some(name)) if message.starts_with("duplicate key") => {
+                format!("`[{name}]` is given twice: write its keys in one table")
+            }
+            _ if message.starts_with("duplicate key") => {
+                let key = start.and_then(|s| key_at(text, s));
+                key.map_or(message.to_string(), |key| {
+                    format!("`{key}` is given twice in its table")
+                })
+            }
+            _ => match start.and_then(|s| key_before(text, s)) {
+                Some(key) if !message.contains(&format!("`{key}`")) => {
+                    format!("`{key}`: {message}")
+                }
+                _ => message.to_string(),
+            },
         };
         SceneError::new(path, line, message)
     })
+}
+
+/// The key assigned on the line of byte `offset` of `text` (`dt` in
+/// `dt = 1e-3`), if the line is an assignment.
+fn key_at(text: &str, offset: usize) -> Option<&str> {
+    let from = text
+        .get(..offset.min(text.len()))?
+        .rfind('\n')
+        .map_or(0, |i| i + 1);
+    let line = &text[from..];
+    let key = line[..line.find('=')?].trim();
+    (!key.is_empty() && !key.contains('\n')).then_some(key)
 }
 
 /// A problem with one key: the key and the message.
