@@ -71,9 +71,11 @@ pub fn centroid(particles: &Particles, body: &Body) -> Vec3 {
 /// matrix `M^-½ K M^-½`: for particle `i`, the sum over its springs of
 /// `k (1/m_i + 1/√(m_i m_j))` (a pinned neighbour counts as infinite mass),
 /// plus the penalty stiffness of colliders over `m_i`, plus, for each
-/// candidate contact pair of the step it is part of, twice the contact's
+/// candidate contact pair of the step it is part of that can touch in the
+/// step (its clearance within the allowance), twice the contact's
 /// stiffness over `m_i` (its closest-point weights sum to at most 2 on each
-/// side). For a uniform chain this gives docs/physics.md's `ω_max = 2 √(k/m)`.
+/// side); a particle's pairs with the elements of one body count it once,
+/// as it touches only the closest. For a uniform chain this gives docs/physics.md's `ω_max = 2 √(k/m)`.
 /// `γ_max` is the same bound for the damping coefficients, plus the
 /// damping `rates` (1/s) of the other forces (air drag, wind;
 /// [`crate::forces::Force::add_damping_rates`]): it limits explicit steps

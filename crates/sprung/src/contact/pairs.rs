@@ -289,26 +289,41 @@ impl ContactPairs {
         self.len() == 0
     }
 
-    /// Call `visit` with each candidate pair's first particle (the particle
-    /// of a point–element pair, whose mass sets the default stiffness) and
-    /// all its particles.
+    /// Call `visit` with each candidate pair that can touch in the step
+    /// (its clearance within the allowance, as a measure reads them): its
+    /// first particle (the particle of a point–element pair, whose mass
+    /// sets the default stiffness) and the particles it may push. A
+    /// particle meets each other body at one element only (its closest),
+    /// so among a particle's pairs with one body's elements the particle
+    /// itself is given with the first only.
     pub fn for_each_member(&self, mut visit: impl FnMut(u32, &mut dyn Iterator<Item = u32>)) {
-        for p in &self.point_triangle {
-            visit(
-                p.particle,
-                &mut std::iter::once(p.particle).chain(p.triangle),
-            );
+        let within = |clearance: Real| clearance <= self.allowance;
+        for (i, p) in self.point_triangle.iter().enumerate() {
+            if within(p.clearance) {
+                let first = first_with_body(&self.point_triangle[..i], p, |q| {
+                    (q.particle, q.body, within(q.clearance))
+                });
+                visit(
+                    p.particle,
+                    &mut first.then_some(p.particle).into_iter().chain(p.triangle),
+                );
+            }
         }
-        for p in &self.point_segment {
-            visit(
-                p.particle,
-                &mut std::iter::once(p.particle).chain(p.segment),
-            );
+        for (i, p) in self.point_segment.iter().enumerate() {
+            if within(p.clearance) {
+                let first = first_with_body(&self.point_segment[..i], p, |q| {
+                    (q.particle, q.body, within(q.clearance))
+                });
+                visit(
+                    p.particle,
+                    &mut first.then_some(p.particle).into_iter().chain(p.segment),
+                );
+            }
         }
-        for p in &self.edge_edge {
+        for p in self.edge_edge.iter().filter(|p| within(p.clearance)) {
             visit(p.first[0], &mut p.first.into_iter().chain(p.second));
         }
-        for p in &self.point_point {
+        for p in self.point_point.iter().filter(|p| within(p.clearance)) {
             visit(p.first, &mut [p.first, p.second].into_iter());
         }
     }
@@ -537,6 +552,19 @@ vectorised! {
             });
         }
     }
+}
+
+/// Whether `pair` is the first pair of its particle's run in `before` (the
+/// pairs before it) with its body, among those `key` says count
+/// (`(particle, body, counts)`): a particle's pairs come one after another.
+fn first_with_body<P>(before: &[P], pair: &P, key: impl Fn(&P) -> (u32, u32, bool)) -> bool {
+    let (particle, body, _) = key(pair);
+    !before
+        .iter()
+        .rev()
+        .map(&key)
+        .take_while(|&(p, _, _)| p == particle)
+        .any(|(_, b, counts)| counts && b == body)
 }
 
 /// How many pairs ahead [`closest_per_body`] asks for the particles' positions.
@@ -953,5 +981,45 @@ mod tests {
         pairs.edge_edge.push(before.edge_edge[1]);
         pairs.allowance = 0.0;
         assert_eq!(pairs.len_of(Kind::EdgeEdge), pairs.edge_edge.len());
+    }
+
+    #[test]
+    fn members_count_a_particle_once_per_body_and_only_pairs_that_can_touch() {
+        // Particle 0 with three triangles of body 1 (two within the
+        // allowance of 1 mm, one beyond) and one of body 2; particle 9 with
+        // one triangle of body 1, beyond. Claim: the stable step's members
+        // are particle 0 once for body 1 and once for body 2, and the
+        // vertices of the three triangles within the allowance; nothing of
+        // the pairs beyond it.
+        let pair = |particle, triangle, body, clearance| PointTriangle {
+            particle,
+            triangle,
+            body,
+            side: 1.0,
+            clearance,
+        };
+        let pairs = ContactPairs {
+            point_triangle: vec![
+                pair(0, [1, 2, 3], 1, 0.0),
+                pair(0, [2, 3, 4], 1, 0.002),
+                pair(0, [3, 4, 5], 1, 0.0005),
+                pair(0, [6, 7, 8], 2, 0.001),
+                pair(9, [1, 2, 3], 1, 0.005),
+            ],
+            allowance: 0.001,
+            ..ContactPairs::default()
+        };
+        let mut members = Vec::new();
+        pairs.for_each_member(|first, particles| {
+            members.push((first, particles.collect::<Vec<_>>()))
+        });
+        assert_eq!(
+            members,
+            vec![
+                (0, vec![0, 1, 2, 3]),
+                (0, vec![3, 4, 5]),
+                (0, vec![0, 6, 7, 8]),
+            ]
+        );
     }
 }
