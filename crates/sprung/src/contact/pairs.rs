@@ -298,28 +298,18 @@ impl ContactPairs {
     /// itself is given with the first only.
     pub fn for_each_member(&self, mut visit: impl FnMut(u32, &mut dyn Iterator<Item = u32>)) {
         let within = |clearance: Real| clearance <= self.allowance;
-        for (i, p) in self.point_triangle.iter().enumerate() {
-            if within(p.clearance) {
-                let first = first_with_body(&self.point_triangle[..i], p, |q| {
-                    (q.particle, q.body, within(q.clearance))
-                });
-                visit(
-                    p.particle,
-                    &mut first.then_some(p.particle).into_iter().chain(p.triangle),
-                );
-            }
-        }
-        for (i, p) in self.point_segment.iter().enumerate() {
-            if within(p.clearance) {
-                let first = first_with_body(&self.point_segment[..i], p, |q| {
-                    (q.particle, q.body, within(q.clearance))
-                });
-                visit(
-                    p.particle,
-                    &mut first.then_some(p.particle).into_iter().chain(p.segment),
-                );
-            }
-        }
+        point_members(
+            &self.point_triangle,
+            |p| (p.particle, p.body, within(p.clearance)),
+            |p| p.triangle,
+            &mut visit,
+        );
+        point_members(
+            &self.point_segment,
+            |p| (p.particle, p.body, within(p.clearance)),
+            |p| p.segment,
+            &mut visit,
+        );
         for p in self.edge_edge.iter().filter(|p| within(p.clearance)) {
             visit(p.first[0], &mut p.first.into_iter().chain(p.second));
         }
@@ -550,6 +540,27 @@ vectorised! {
             pairs.touches_in(*kind, piece.clone(), position, thickness, &mut |t| {
                 found.push(t)
             });
+        }
+    }
+}
+
+/// [`ContactPairs::for_each_member`] over particle–element `pairs`: `key`
+/// gives a pair's particle, the element's body and whether the pair can
+/// touch in the step, `element` the element's particles.
+fn point_members<P, const N: usize>(
+    pairs: &[P],
+    key: impl Fn(&P) -> (u32, u32, bool),
+    element: impl Fn(&P) -> [u32; N],
+    visit: &mut impl FnMut(u32, &mut dyn Iterator<Item = u32>),
+) {
+    for (i, pair) in pairs.iter().enumerate() {
+        let (particle, _, counts) = key(pair);
+        if counts {
+            let first = first_with_body(&pairs[..i], pair, &key);
+            visit(
+                particle,
+                &mut first.then_some(particle).into_iter().chain(element(pair)),
+            );
         }
     }
 }
