@@ -4,7 +4,7 @@
 
 use crate::body::Body;
 use crate::collide::Collider;
-use crate::contact::Contacts;
+use crate::contact::{Contacts, REFERENCE_SPEED};
 use crate::particles::Particles;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
@@ -72,10 +72,11 @@ pub fn centroid(particles: &Particles, body: &Body) -> Vec3 {
 /// `k (1/m_i + 1/√(m_i m_j))` (a pinned neighbour counts as infinite mass),
 /// plus the penalty stiffness of colliders over `m_i`, plus, for each
 /// candidate contact pair of the step it is part of that can touch in the
-/// step (its clearance within the allowance), twice the contact's
-/// stiffness over `m_i` (its closest-point weights sum to at most 2 on each
-/// side); a particle's pairs with the elements of one body count it once,
-/// as it touches only the closest. For a uniform chain this gives docs/physics.md's `ω_max = 2 √(k/m)`.
+/// step (its clearance within the allowance), `2 (v_ref / h)²` for the
+/// default stiffness (whatever the masses: it is set from the contact's
+/// effective mass) or twice a given stiffness over `m_i`; a particle's
+/// pairs with the elements of one body count it once, as it touches only
+/// the closest. For a uniform chain this gives docs/physics.md's `ω_max = 2 √(k/m)`.
 /// `γ_max` is the same bound for the damping coefficients, plus the
 /// damping `rates` (1/s) of the other forces (air drag, wind;
 /// [`crate::forces::Force::add_damping_rates`]): it limits explicit steps
@@ -104,14 +105,25 @@ pub fn stable_time_step(
             damping_bound[me] += springs.damping[s] * (w + coupling);
         }
     }
-    contacts.pairs.for_each_member(|first, members| {
-        let (k, c) = contacts
-            .settings
-            .coefficients(particles.mass[first as usize]);
+    // A contact of the default coefficients, `m (v_ref / h)²` and
+    // `m v_ref / h` for its effective mass `m = 1 / Σ w_i² / m_i`, adds at
+    // most `2 (v_ref / h)²` and `2 v_ref / h` to each moving member's row of
+    // the mass-scaled matrices: its block is `k u uᵀ` with `u_i = w_i /
+    // √m_i`, whose row `i` sums to `k |u_i| Σ |u_j| ≤ k |u_i| √(4 Σ u_j²)`,
+    // and `|u_i| ≤ √(Σ u_j²) = 1 / √m`. A given stiffness `k` (or damping)
+    // adds `2 k / m_i` (the weights sum to at most 2).
+    let settings = &contacts.settings;
+    let rate = REFERENCE_SPEED / settings.thickness;
+    contacts.pairs.for_each_member(|members| {
         for i in members {
             let w = particles.inverse_mass[i as usize];
-            stiffness_bound[i as usize] += 2.0 * k * w;
-            damping_bound[i as usize] += 2.0 * c * w;
+            if w == 0.0 {
+                continue;
+            }
+            stiffness_bound[i as usize] += settings
+                .stiffness
+                .map_or(2.0 * rate * rate, |k| 2.0 * k * w);
+            damping_bound[i as usize] += settings.damping.map_or(2.0 * rate, |c| 2.0 * c * w);
         }
     });
     let penalty: Real = colliders.iter().map(Collider::penalty_stiffness).sum();

@@ -1137,6 +1137,7 @@ impl<'a> Frame<'a> {
             position,
             velocity,
             mass: self.mass,
+            inverse_mass: self.inverse_mass,
             springs: self.springs,
             bodies: self.bodies,
             colliders: self.colliders,

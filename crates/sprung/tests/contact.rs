@@ -555,3 +555,59 @@ fn friction_among_many_bodies_gives_the_same_bits_on_any_number_of_threads() {
         );
     }
 }
+
+#[test]
+fn a_contact_lasts_as_long_whatever_the_masses_and_their_order() {
+    // Two lone particles (bodies without a surface meet as particles), a
+    // light one (1 g) thrown at 1 m/s at a heavy one (1 kg) at rest, no
+    // gravity, no contact damping. The default stiffness is set from the
+    // contact's effective mass, here the pair's reduced mass μ: k = μ (v_ref
+    // / h)², so their separation within the thickness oscillates at ω =
+    // v_ref / h = 1000 rad/s and the touch lasts half a period, π / ω =
+    // 3.14 ms, whichever particle the pair lists first. Claims: on both
+    // orders of the bodies, the touch lasts π / ω to two steps (the touch
+    // is seen from the step after it starts to the step it ends), and the
+    // light particle leaves at (m - M) / (m + M) of its speed (an elastic
+    // bounce: no damping), to 0.5 % (the first and last steps' share of
+    // the impulse). Before, the stiffness came from the listed first
+    // particle's mass alone: listed heavy first, k was 1000 times μ's and
+    // the touch 32 times shorter than a step can follow.
+    let dt = 1e-5;
+    let (light, heavy) = (1e-3, 1.0);
+    let omega = sprung::contact::REFERENCE_SPEED / sprung::contact::DEFAULT_THICKNESS;
+    for heavy_first in [false, true] {
+        let mut world = World::new(IntegratorKind::SymplecticEuler);
+        world.set_gravity(Vec3::ZERO);
+        world.contacts.settings.damping = Some(0.0);
+        let thrown =
+            sprung::BodyData::from_positions(vec![Vec3::new(-0.02, 0.0, 0.0)]).with_mass(light);
+        let target = sprung::BodyData::from_positions(vec![Vec3::ZERO]).with_mass(heavy);
+        let order = if heavy_first {
+            [("heavy", target), ("light", thrown)]
+        } else {
+            [("light", thrown), ("heavy", target)]
+        };
+        for (name, body) in order {
+            world.add_body(name, body).expect("valid body");
+        }
+        let light_index = usize::from(heavy_first);
+        world.particles.velocity[light_index] = Vec3::new(1.0, 0.0, 0.0);
+        let mut touching_steps = 0;
+        for _ in 0..3000 {
+            world.step(dt).expect("stable");
+            touching_steps += usize::from(world.active_contacts() > 0);
+        }
+        let lasted = touching_steps as Real * dt;
+        let expected = std::f64::consts::PI / omega;
+        assert!(
+            (lasted - expected).abs() <= 2.0 * dt,
+            "heavy first: {heavy_first}: touched {lasted} s, expected {expected} s"
+        );
+        let bounce = world.particles.velocity[light_index].x;
+        let elastic = (light - heavy) / (light + heavy);
+        assert!(
+            (bounce - elastic).abs() <= 5e-3 * elastic.abs(),
+            "heavy first: {heavy_first}: left at {bounce} m/s, elastic {elastic} m/s"
+        );
+    }
+}

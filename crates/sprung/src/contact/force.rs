@@ -75,10 +75,19 @@ impl BodyContacts {
     }
 }
 
-/// The stiffness and damping of `touch` in `context` (from the mass of its
-/// first particle: the particle of a point–element pair).
+/// The stiffness and damping of `touch` in `context`, from the effective
+/// mass of its two sides at their closest points ([`super::effective_mass`]).
 fn coefficients(context: &ForceContext, touch: &Touch) -> (Real, Real) {
-    let mass = context.mass[touch.particles[0] as usize];
+    let count = touch.count;
+    let inverse_mass: [Real; 4] = std::array::from_fn(|i| {
+        if i < count {
+            context.inverse_mass[touch.particles[i] as usize]
+        } else {
+            0.0
+        }
+    });
+    let first = context.mass[touch.particles[0] as usize];
+    let mass = super::effective_mass(&touch.weights[..count], &inverse_mass[..count], first);
     context.contacts.settings.coefficients(mass)
 }
 

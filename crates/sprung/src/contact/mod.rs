@@ -24,10 +24,14 @@
 //! starts with the touch, though: a jump the adaptive `rk45` meets with
 //! very small steps where contacts keep starting). Its stiffness bounds the explicit time step like a spring does;
 //! `substeps = "auto"` accounts for it. By default the stiffness is chosen
-//! per contact from the particle's mass: `k = m (v_ref / h)²` with
-//! `v_ref =` [`REFERENCE_SPEED`], so that a particle arriving at that
-//! speed is stopped within the thickness, and the damping is
-//! `c = m v_ref / h` (half of critical).
+//! per contact from the effective mass `m` of its two sides at their
+//! closest points ([`effective_mass`]: `1 / Σ w_i² / m_i`, two particles'
+//! reduced mass): `k = m (v_ref / h)²` with `v_ref =`
+//! [`REFERENCE_SPEED`], so that sides closing at that speed are stopped
+//! within the thickness, and the damping is `c = m v_ref / h` (half of
+//! critical). Every contact then oscillates at `v_ref / h` whatever the
+//! masses: a light cloth under a heavy ball is not made stiffer than the
+//! step can follow, as the heavier side's mass alone would.
 //!
 //! **Stages.** The *detect* stage ([`Contacts::detect`]) runs once per step
 //! before integrating: a uniform grid ([`grid`]) finds, in time linear in
@@ -112,7 +116,8 @@ pub struct ContactSettings {
     /// Coulomb friction coefficient `μ` on the relative tangential velocity
     /// (impulses after each step). Default 0.
     pub friction: Real,
-    /// Penalty stiffness (N/m); `None`: `m (v_ref / h)²` per contact.
+    /// Penalty stiffness (N/m); `None`: `m (v_ref / h)²` per contact, with
+    /// `m` the contact's effective mass ([`effective_mass`]).
     pub stiffness: Option<Real>,
     /// Penalty damping on the normal relative velocity (N·s/m); `None`:
     /// `m v_ref / h` per contact.
@@ -195,13 +200,33 @@ impl ContactSettings {
     }
 
     /// The penalty stiffness (N/m) and damping (N·s/m) of a contact whose
-    /// particle has mass `mass` (kg).
+    /// sides have the effective mass `mass` (kg) along its normal (see
+    /// [`effective_mass`]).
     pub fn coefficients(&self, mass: Real) -> (Real, Real) {
         let rate = REFERENCE_SPEED / self.thickness;
         (
             self.stiffness.unwrap_or(mass * rate * rate),
             self.damping.unwrap_or(mass * rate),
         )
+    }
+}
+
+/// The effective mass (kg) of a contact between closest points `Σ w_i
+/// x_i` (weights `weights` of particles of inverse masses
+/// `inverse_mass`, 1/kg, positive on one side and negative on the other):
+/// `1 / Σ w_i² / m_i`, what the contact's force accelerates along its
+/// normal (two particles: their reduced mass). Pinned particles count as
+/// infinitely heavy; with every particle pinned, the first's `mass` (kg).
+pub fn effective_mass(weights: &[Real], inverse_mass: &[Real], mass: Real) -> Real {
+    let inverse: Real = weights
+        .iter()
+        .zip(inverse_mass)
+        .map(|(w, m)| w * w * m)
+        .sum();
+    if inverse > 0.0 {
+        1.0 / inverse
+    } else {
+        mass
     }
 }
 

@@ -289,14 +289,12 @@ impl ContactPairs {
         self.len() == 0
     }
 
-    /// Call `visit` with each candidate pair that can touch in the step
-    /// (its clearance within the allowance, as a measure reads them): its
-    /// first particle (the particle of a point–element pair, whose mass
-    /// sets the default stiffness) and the particles it may push. A
-    /// particle meets each other body at one element only (its closest),
-    /// so among a particle's pairs with one body's elements the particle
-    /// itself is given with the first only.
-    pub fn for_each_member(&self, mut visit: impl FnMut(u32, &mut dyn Iterator<Item = u32>)) {
+    /// Call `visit` with the particles each candidate pair that can touch
+    /// in the step (its clearance within the allowance, as a measure reads
+    /// them) may push. A particle meets each other body at one element
+    /// only (its closest), so among a particle's pairs with one body's
+    /// elements the particle itself is given with the first only.
+    pub fn for_each_member(&self, mut visit: impl FnMut(&mut dyn Iterator<Item = u32>)) {
         let within = |clearance: Real| clearance <= self.allowance;
         point_members(
             &self.point_triangle,
@@ -311,10 +309,10 @@ impl ContactPairs {
             &mut visit,
         );
         for p in self.edge_edge.iter().filter(|p| within(p.clearance)) {
-            visit(p.first[0], &mut p.first.into_iter().chain(p.second));
+            visit(&mut p.first.into_iter().chain(p.second));
         }
         for p in self.point_point.iter().filter(|p| within(p.clearance)) {
-            visit(p.first, &mut [p.first, p.second].into_iter());
+            visit(&mut [p.first, p.second].into_iter());
         }
     }
 
@@ -551,16 +549,13 @@ fn point_members<P, const N: usize>(
     pairs: &[P],
     key: impl Fn(&P) -> (u32, u32, bool),
     element: impl Fn(&P) -> [u32; N],
-    visit: &mut impl FnMut(u32, &mut dyn Iterator<Item = u32>),
+    visit: &mut impl FnMut(&mut dyn Iterator<Item = u32>),
 ) {
     for (i, pair) in pairs.iter().enumerate() {
         let (particle, _, counts) = key(pair);
         if counts {
             let first = first_with_body(&pairs[..i], pair, &key);
-            visit(
-                particle,
-                &mut first.then_some(particle).into_iter().chain(element(pair)),
-            );
+            visit(&mut first.then_some(particle).into_iter().chain(element(pair)));
         }
     }
 }
@@ -1021,16 +1016,10 @@ mod tests {
             ..ContactPairs::default()
         };
         let mut members = Vec::new();
-        pairs.for_each_member(|first, particles| {
-            members.push((first, particles.collect::<Vec<_>>()))
-        });
+        pairs.for_each_member(|particles| members.push(particles.collect::<Vec<_>>()));
         assert_eq!(
             members,
-            vec![
-                (0, vec![0, 1, 2, 3]),
-                (0, vec![3, 4, 5]),
-                (0, vec![0, 6, 7, 8]),
-            ]
+            vec![vec![0, 1, 2, 3], vec![3, 4, 5], vec![0, 6, 7, 8]]
         );
     }
 }

@@ -67,6 +67,8 @@ pub struct ForceContext<'a> {
     pub velocity: &'a [Vec3],
     /// Particle masses (kg).
     pub mass: &'a [Real],
+    /// Inverse masses (1/kg), zero for pinned particles.
+    pub inverse_mass: &'a [Real],
     /// The world's springs.
     pub springs: &'a Springs,
     /// The world's bodies.
