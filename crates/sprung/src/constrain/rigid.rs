@@ -24,10 +24,10 @@
 //! restitution times its approach speed, with a Coulomb friction impulse
 //! of at most the friction coefficient times the normal one (a few passes
 //! over the touching particles, as sequential impulses); the body then
-//! moves by the impulses' change of its motion times the step (less the
-//! part along the surface's normal, which moving it out took care of), as
-//! if they had acted from the start of the step, so a body at rest on a
-//! slope stays put. Below
+//! moves along the surface by the impulses' change of its drift times the
+//! step, as if they had acted from the start of the step (and out again
+//! where a curved surface took it in), so a body at rest on a slope stays
+//! put. Below
 //! `rest_speed` (the speed gravity gives in two steps, at least
 //! [`crate::world::RESTING_SPEED`]) a contact is treated as resting: no
 //! restitution, so a body at rest does not rock.
@@ -260,25 +260,29 @@ impl RigidBody {
                     }
                 }
             }
-            // The body moves by the impulses' change of its motion times
-            // `dt`, as if they had acted from the start of the step (less
-            // the part along the surface's normal, which the shift out
-            // took care of): otherwise each step's sliding, taken before
-            // friction stops it, adds up to a creep (`g sin θ dt` per
-            // second on a slope) of a body at rest.
-            let (normal, before) = (deepest.1, start);
-            let along = motion.drift - before.drift;
-            let (drift, spin) = (
-                along - along.dot(normal) * normal,
-                motion.spin - before.spin,
-            );
-            let turn = DQuat::from_scaled_axis(spin * dt);
-            let (centre, step) = (motion.centre, drift * dt);
-            for p in x.iter_mut() {
-                *p = centre + step + turn * (*p - centre);
-            }
+            // The body moves by the impulses' change of its drift times
+            // `dt`, along the surface, as if they had acted from the start
+            // of the step (the shift out took care of the normal part):
+            // otherwise each step's sliding, taken before friction stops
+            // it, adds up to a creep (`g sin θ dt` per second on a slope)
+            // of a body at rest. Not turned: a turn about the centre would
+            // drive other corners into the surface.
+            let normal = deepest.1;
+            let along = motion.drift - start.drift;
+            let step = (along - along.dot(normal) * normal) * dt;
+            x.iter_mut().for_each(|p| *p += step);
             motion.centre += step;
-            self.rotation = (turn * self.rotation).normalize();
+            // Along a curved surface (a sphere) that move may take a
+            // particle a little inside: out again.
+            let deepest = x
+                .iter()
+                .map(|&p| shape.distance_and_normal(p))
+                .fold((0.0, Vec3::ZERO), |a, b| if b.0 < a.0 { b } else { a });
+            if deepest.0 < 0.0 {
+                let shift = -deepest.0 * deepest.1;
+                x.iter_mut().for_each(|p| *p += shift);
+                motion.centre += shift;
+            }
         }
         if touched {
             for (v, p) in v.iter_mut().zip(x.iter()) {

@@ -215,18 +215,52 @@ impl ContactSettings {
 /// x_i` (weights `weights` of particles of inverse masses
 /// `inverse_mass`, 1/kg, positive on one side and negative on the other):
 /// `1 / Σ w_i² / m_i`, what the contact's force accelerates along its
-/// normal (two particles: their reduced mass). Pinned particles count as
-/// infinitely heavy; with every particle pinned, the first's `mass` (kg).
+/// normal (two particles: their reduced mass), at most the heaviest moving
+/// particle's mass: where only particles of small weight move (a pinned
+/// particle against a triangle next to its pinned edge), the stiffness
+/// would otherwise grow as `1 / w²` without bound. Pinned particles count
+/// as infinitely heavy; with every particle pinned, the first's `mass`
+/// (kg).
 pub fn effective_mass(weights: &[Real], inverse_mass: &[Real], mass: Real) -> Real {
     let inverse: Real = weights
         .iter()
         .zip(inverse_mass)
         .map(|(w, m)| w * w * m)
         .sum();
+    let heaviest = inverse_mass
+        .iter()
+        .filter(|&&m| m > 0.0)
+        .map(|&m| 1.0 / m)
+        .fold(0.0, Real::max);
     if inverse > 0.0 {
-        1.0 / inverse
+        (1.0 / inverse).min(heaviest)
     } else {
         mass
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::effective_mass;
+
+    #[test]
+    fn the_effective_mass_is_the_reduced_mass_at_most_the_heaviest_moving_one() {
+        // Two particles of 1 and 3 kg: 3/4 kg. A 1 kg particle against a
+        // triangle of 1 kg vertices at its centroid: 1 / (1 + 3/9) = 3/4
+        // kg. A pinned particle against a triangle whose only moving
+        // vertex (1 kg) has weight 1e-3: 1e6 kg by the formula, capped at
+        // 1 kg. Every particle pinned: the given mass.
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-15 * b;
+        assert!(close(
+            effective_mass(&[1.0, -1.0], &[1.0, 1.0 / 3.0], 9.0),
+            0.75
+        ));
+        let third = 1.0 / 3.0;
+        let centroid = effective_mass(&[1.0, -third, -third, -third], &[1.0; 4], 9.0);
+        assert!(close(centroid, 0.75));
+        let pinned = effective_mass(&[1.0, -0.999, -1e-3, 0.0], &[0.0, 0.0, 1.0, 0.0], 9.0);
+        assert_eq!(pinned, 1.0);
+        assert_eq!(effective_mass(&[1.0, -1.0], &[0.0, 0.0], 9.0), 9.0);
     }
 }
 
