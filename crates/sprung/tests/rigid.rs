@@ -137,14 +137,7 @@ fn a_rigid_cube_dropped_on_its_corner_bounces_and_rests_on_a_face() {
     assert_eq!(below, 1, "it starts on one corner");
     let mut world = World::new(IntegratorKind::SymplecticEuler);
     world.add_body("cube", body).unwrap();
-    let floor = Shape::plane(Vec3::ZERO, Vec3::Y).unwrap();
-    let response = ContactResponse::Projection {
-        restitution: 0.5,
-        friction: 0.5,
-    };
-    world
-        .colliders
-        .push(Collider::new(floor, response).unwrap());
+    add_floor(&mut world, 0.5, 0.5);
     let mut bounced = false;
     let mut was_falling = false;
     for _ in 0..(6.0 / 1e-3) as usize {
@@ -199,14 +192,7 @@ fn a_rigid_cube_lands_on_a_gas_ball_without_entering_it() {
             cube().placed(1.0, Vec3::new(10.0, 20.0, 0.0), Vec3::new(-0.1, 1.1, -0.1)),
         )
         .unwrap();
-    let floor = Shape::plane(Vec3::ZERO, Vec3::Y).unwrap();
-    let response = ContactResponse::Projection {
-        restitution: 0.3,
-        friction: 0.5,
-    };
-    world
-        .colliders
-        .push(Collider::new(floor, response).unwrap());
+    add_floor(&mut world, 0.3, 0.5);
     let thickness = world.contacts.settings.thickness;
     let mut lowest_cube: Real = Real::INFINITY;
     for _ in 0..(0.5 / 2e-4) as usize {
@@ -242,6 +228,13 @@ fn cube_over_floor(
     body.velocity = vec![velocity; body.position.len()];
     let mut world = World::new(kind);
     world.add_body("cube", body).unwrap();
+    add_floor(&mut world, restitution, friction);
+    world
+}
+
+/// Add the floor y = 0 to `world`: a projection collider with
+/// `restitution` and Coulomb `friction`.
+fn add_floor(world: &mut World, restitution: Real, friction: Real) {
     let floor = Shape::plane(Vec3::ZERO, Vec3::Y).unwrap();
     let response = ContactResponse::Projection {
         restitution,
@@ -250,7 +243,6 @@ fn cube_over_floor(
     world
         .colliders
         .push(Collider::new(floor, response).unwrap());
-    world
 }
 
 #[test]
@@ -370,14 +362,7 @@ fn a_tilted_rigid_rod_landing_with_friction_never_ends_a_step_inside_the_floor()
     rod.velocity = vec![Vec3::new(0.0, -3.0, 0.0); rod.position.len()];
     let mut world = World::new(IntegratorKind::SymplecticEuler);
     world.add_body("rod", rod).unwrap();
-    let floor = Shape::plane(Vec3::ZERO, Vec3::Y).unwrap();
-    let response = ContactResponse::Projection {
-        restitution: 0.0,
-        friction: 0.5,
-    };
-    world
-        .colliders
-        .push(Collider::new(floor, response).unwrap());
+    add_floor(&mut world, 0.0, 0.5);
     for step in 1..=1000 {
         world.step(1e-3).unwrap();
         let lowest = world
