@@ -44,6 +44,14 @@ fn angular_momentum(world: &World) -> Vec3 {
         .sum()
 }
 
+/// The lowest height (m, y) of `positions`.
+fn lowest_height(positions: &[Vec3]) -> Real {
+    positions
+        .iter()
+        .map(|x| x.y)
+        .fold(Real::INFINITY, Real::min)
+}
+
 /// The angular velocity (rad/s) of a rigid world's one body, `ω = I⁻¹ L`
 /// with the inertia of its particles about their centre of mass.
 fn spin_of(world: &World) -> Vec3 {
@@ -128,11 +136,7 @@ fn a_rigid_cube_dropped_on_its_corner_bounces_and_rests_on_a_face() {
     // vertical; exactly so, it would land on an edge and balance there),
     // 0.5 m above a floor with restitution 0.5 and friction 0.5.
     let body = cube().placed(1.0, Vec3::new(40.0, 5.0, 30.0), Vec3::new(0.0, 0.5, 0.0));
-    let lowest = body
-        .position
-        .iter()
-        .map(|x| x.y)
-        .fold(Real::INFINITY, Real::min);
+    let lowest = lowest_height(&body.position);
     let below = body.position.iter().filter(|x| x.y < lowest + 1e-3).count();
     assert_eq!(below, 1, "it starts on one corner");
     let mut world = World::new(IntegratorKind::SymplecticEuler);
@@ -202,10 +206,7 @@ fn a_rigid_cube_lands_on_a_gas_ball_without_entering_it() {
             deepest <= thickness,
             "a particle is {deepest} m inside another body"
         );
-        let cube_low = world.particles.position[world.bodies[1].particles.clone()]
-            .iter()
-            .map(|x| x.y)
-            .fold(Real::INFINITY, Real::min);
+        let cube_low = lowest_height(&world.particles.position[world.bodies[1].particles.clone()]);
         lowest_cube = lowest_cube.min(cube_low);
     }
     // In its first half second it lands on the ball (top at 0.81 m, reached
@@ -263,12 +264,7 @@ fn a_rigid_cube_bounces_with_its_restitution_under_every_integrator() {
         let (mut landed, mut highest) = (false, 0.0);
         for _ in 0..1200 {
             world.step(1e-3).unwrap();
-            let low = world
-                .particles
-                .position
-                .iter()
-                .map(|x| x.y)
-                .fold(Real::INFINITY, Real::min);
+            let low = lowest_height(&world.particles.position);
             let rising = world.particles.velocity[0].y > 0.0;
             landed |= rising;
             if landed {
@@ -365,12 +361,7 @@ fn a_tilted_rigid_rod_landing_with_friction_never_ends_a_step_inside_the_floor()
     add_floor(&mut world, 0.0, 0.5);
     for step in 1..=1000 {
         world.step(1e-3).unwrap();
-        let lowest = world
-            .particles
-            .position
-            .iter()
-            .map(|p| p.y)
-            .fold(Real::INFINITY, Real::min);
+        let lowest = lowest_height(&world.particles.position);
         assert!(lowest >= -1e-12, "step {step}: {lowest} m below the floor");
     }
 }
