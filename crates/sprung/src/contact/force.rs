@@ -91,6 +91,19 @@ fn coefficients(context: &ForceContext, touch: &Touch) -> (Real, Real) {
     context.contacts.settings.coefficients(mass)
 }
 
+/// Ask the processor for the inverse masses and velocities of `touch`'s
+/// particles ahead of their use.
+#[inline(always)]
+fn prefetch_particles(context: &ForceContext, touch: &Touch) {
+    for &p in &touch.particles[..touch.count] {
+        let p = p as usize;
+        if let (Some(w), Some(v)) = (context.inverse_mass.get(p), context.velocity.get(p)) {
+            crate::cache::prefetch(w);
+            crate::cache::prefetch(v);
+        }
+    }
+}
+
 impl Force for BodyContacts {
     fn name(&self) -> &'static str {
         "body contacts"
@@ -111,7 +124,10 @@ impl Force for BodyContacts {
         let normal_forces = |(touches, pushes): (&Vec<Touch>, &mut Vec<Pushed>)| {
             let mut spans: Spans = [0; 32];
             pushes.clear();
-            pushes.extend(touches.iter().map(|touch| {
+            pushes.extend(touches.iter().enumerate().map(|(i, touch)| {
+                if let Some(ahead) = touches.get(i + crate::cache::PREFETCH_AHEAD) {
+                    prefetch_particles(context, ahead);
+                }
                 let (k, c) = coefficients(context, touch);
                 let normal_speed = touch.relative(context.velocity).dot(touch.normal);
                 let [lowest, highest] = touch.extent();

@@ -82,11 +82,20 @@ impl Contacts {
                 break;
             }
         }
-        let each = |f: &mut dyn FnMut(&Touch, &Pushed)| {
-            for (touches, pushed) in touches.iter().zip(pushed) {
-                for (touch, pushed) in touches.iter().zip(pushed) {
-                    f(touch, pushed);
-                }
+        // Every touch in order, with the one `PREFETCH_AHEAD` after it (whose
+        // particles' data a thread may ask for while it takes this one).
+        let all = || {
+            touches
+                .iter()
+                .zip(pushed)
+                .flat_map(|(touches, pushed)| touches.iter().zip(pushed))
+        };
+        let each = |f: &mut dyn FnMut(&Touch, &Pushed, Option<&Touch>)| {
+            let ahead = all()
+                .skip(crate::cache::PREFETCH_AHEAD)
+                .map(|(t, _)| Some(t));
+            for ((touch, pushed), ahead) in all().zip(ahead.chain(std::iter::repeat(None))) {
+                f(touch, pushed, ahead);
             }
         };
         let slide = |touch: &Touch, push: Real, first: usize, x: &mut [Vec3], v: &mut [Vec3]| {
@@ -99,7 +108,10 @@ impl Contacts {
             let slices = (&mut *position, &mut *velocity);
             parallel::for_each_aligned_share(slices, align, offset, |first, (x, v)| {
                 let end = first + x.len();
-                each(&mut |touch, pushed| {
+                each(&mut |touch, pushed, ahead| {
+                    if let Some(ahead) = ahead {
+                        prefetch(ahead, first, x, v, inverse_mass);
+                    }
                     let lowest = pushed.lowest as usize;
                     let group = u64::from(pushed.lowest) / width;
                     if grouped(pushed.span) && group % 2 == parity && (first..end).contains(&lowest)
@@ -109,11 +121,27 @@ impl Contacts {
                 });
             });
         }
-        each(&mut |touch, pushed| {
+        each(&mut |touch, pushed, _| {
             if !grouped(pushed.span) {
                 slide(touch, pushed.push, 0, position, velocity);
             }
         });
+    }
+}
+
+/// Ask the processor for the entries of `touch`'s particles that lie in
+/// the share `first..` of positions `x` and velocities `v`, and their
+/// inverse masses, ahead of their use.
+#[inline(always)]
+fn prefetch(touch: &Touch, first: usize, x: &[Vec3], v: &[Vec3], inverse_mass: &[Real]) {
+    for &p in &touch.particles[..touch.count] {
+        let p = p as usize;
+        let at = p.wrapping_sub(first);
+        if let (Some(x), Some(v), Some(w)) = (x.get(at), v.get(at), inverse_mass.get(p)) {
+            crate::cache::prefetch(x);
+            crate::cache::prefetch(v);
+            crate::cache::prefetch(w);
+        }
     }
 }
 

@@ -227,13 +227,17 @@ pub fn effective_mass(weights: &[Real], inverse_mass: &[Real], mass: Real) -> Re
         .zip(inverse_mass)
         .map(|(w, m)| w * w * m)
         .sum();
-    let heaviest = inverse_mass
+    // The heaviest moving particle's inverse mass. One division for both
+    // the cap and the mass: `min(1/a, 1/b) = 1/max(a, b)` holds exactly
+    // in floating point (a correctly rounded reciprocal never rises as
+    // its argument does), and divisions were most of this function's time.
+    let heaviest_inverse = inverse_mass
         .iter()
-        .filter(|&&m| m > 0.0)
-        .map(|&m| 1.0 / m)
-        .fold(0.0, Real::max);
+        .copied()
+        .filter(|&m| m > 0.0)
+        .fold(Real::INFINITY, Real::min);
     if inverse > 0.0 {
-        (1.0 / inverse).min(heaviest)
+        1.0 / inverse.max(heaviest_inverse)
     } else {
         mass
     }
