@@ -63,7 +63,16 @@ pub struct Case {
     pub dt: Step,
     /// Compared with the textbook loop under `--compare`.
     pub compare: bool,
+    /// Least steps timed, whatever `--steps` asks (0: none).
+    pub least_steps: u32,
 }
+
+/// Least steps timed of a contact scene (0.06 s at [`contacts::DT`]): a
+/// pile searches for its pairs every 10 to 25 steps (every 10 in its
+/// first 60, while the gas throws the balls' surfaces out), and a window
+/// of a few tens of steps would count whichever searches fall in it,
+/// swinging the contact's cost per step by a factor near 2.
+pub const CONTACT_STEPS: u32 = 300;
 
 fn input(e: impl std::fmt::Display) -> CliError {
     CliError::Input(format!("bench: {e}"))
@@ -137,6 +146,7 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
                 build: Box::new(move || cloth(size, IntegratorKind::SymplecticEuler)),
                 dt: Step::HalfStable,
                 compare: true,
+                least_steps: 0,
             });
         }
         // The memory claim: the largest cloth under RK4 (five state-sized
@@ -150,6 +160,7 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
                 build: Box::new(move || cloth(largest, IntegratorKind::Rk4)),
                 dt: Step::HalfStable,
                 compare: false,
+                least_steps: 0,
             });
         }
         // A cloth as a mesh file may number it: its vertices in no order
@@ -162,6 +173,7 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
             build: Box::new(move || shuffled_cloth(size)),
             dt: Step::HalfStable,
             compare: false,
+            least_steps: 0,
         });
     }
     if wanted(Group::Integrators) {
@@ -174,6 +186,7 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
                 build: Box::new(move || cloth(size, kind)),
                 dt: Step::HalfStable,
                 compare: false,
+                least_steps: 0,
             });
         }
     }
@@ -186,6 +199,7 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
                 build: Box::new(move || gas_ball(subdivisions)),
                 dt: Step::HalfStable,
                 compare: false,
+                least_steps: 0,
             });
         }
     }
@@ -229,6 +243,7 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
                     }),
                     dt,
                     compare: false,
+                    least_steps: 0,
                 });
             }
         }
@@ -245,6 +260,7 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
                     build: Box::new(move || balls_in_a_box(count, on)),
                     dt: Step::Fixed(contacts::DT),
                     compare: false,
+                    least_steps: if quick { 0 } else { CONTACT_STEPS },
                 });
             }
         }
@@ -260,6 +276,7 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
                 // 7e-5 s, whatever the contacts.
                 dt: Step::HalfStable,
                 compare: false,
+                least_steps: if quick { 0 } else { CONTACT_STEPS },
             });
         }
     }
