@@ -106,7 +106,7 @@ impl Contacts {
             let offset = usize::try_from(parity * width).unwrap_or(usize::MAX);
             let align = usize::try_from(2 * width).unwrap_or(usize::MAX);
             let slices = (&mut *position, &mut *velocity);
-            parallel::for_each_aligned_share(slices, align, offset, |first, (x, v)| {
+            let group_pass = |first: usize, (x, v): (&mut [Vec3], &mut [Vec3])| {
                 let end = first + x.len();
                 each(&mut |touch, pushed, ahead| {
                     if let Some(ahead) = ahead {
@@ -119,7 +119,15 @@ impl Contacts {
                         slide(touch, pushed.push, first, x, v);
                     }
                 });
-            });
+            };
+            // Few touches: one share on this thread (the same order, so
+            // the same bits), rather than waking the threads for a pass
+            // shorter than their waking.
+            if total <= parallel::CHUNK {
+                group_pass(0, slices);
+            } else {
+                parallel::for_each_aligned_share(slices, align, offset, group_pass);
+            }
         }
         each(&mut |touch, pushed, _| {
             if !grouped(pushed.span) {
