@@ -82,20 +82,14 @@ impl Contacts {
                 break;
             }
         }
-        // Every touch in order, with the one `PREFETCH_AHEAD` after it (whose
-        // particles' data a thread may ask for while it takes this one).
-        let all = || {
-            touches
-                .iter()
-                .zip(pushed)
-                .flat_map(|(touches, pushed)| touches.iter().zip(pushed))
-        };
+        // Every touch in order, with the one `PREFETCH_AHEAD` after it in
+        // its piece (whose particles' data a thread may ask for while it
+        // takes this one).
         let each = |f: &mut dyn FnMut(&Touch, &Pushed, Option<&Touch>)| {
-            let ahead = all()
-                .skip(crate::cache::PREFETCH_AHEAD)
-                .map(|(t, _)| Some(t));
-            for ((touch, pushed), ahead) in all().zip(ahead.chain(std::iter::repeat(None))) {
-                f(touch, pushed, ahead);
+            for (touches, pushed) in touches.iter().zip(pushed) {
+                for (i, (touch, pushed)) in touches.iter().zip(pushed).enumerate() {
+                    f(touch, pushed, touches.get(i + crate::cache::PREFETCH_AHEAD));
+                }
             }
         };
         let slide = |touch: &Touch, push: Real, first: usize, x: &mut [Vec3], v: &mut [Vec3]| {
