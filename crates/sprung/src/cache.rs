@@ -1,11 +1,5 @@
 //! Hints to the processor's caches.
 
-/// How many entries ahead a loop over contact touches asks for their
-/// particles' data: their particles lie scattered over the arrays, so each
-/// touch would otherwise wait on memory; eight keeps enough requests in
-/// flight without evicting what the loop is about to use.
-pub(crate) const PREFETCH_AHEAD: usize = 8;
-
 /// Ask the processor to bring the cache line holding `value` into its
 /// caches ahead of its use (an `_mm_prefetch` hint on x86-64, nothing
 /// elsewhere). It reads nothing and never faults.

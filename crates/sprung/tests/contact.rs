@@ -521,6 +521,13 @@ fn friction_among_many_bodies_gives_the_same_bits_on_any_number_of_threads() {
             for cloth in &cloths {
                 world.particles.velocity[cloth.clone()].fill(Vec3::new(0.5, 0.0, 0.0));
             }
+            // Enough touches for friction to share them among threads
+            // (with fewer it takes them all on the calling thread).
+            let touching = world.active_contacts();
+            assert!(
+                touching > sprung::parallel::CHUNK,
+                "{touching} touches: too few to share among threads"
+            );
             let before = world.linear_momentum();
             for _ in 0..18 {
                 world.step(1e-4).expect("stable");

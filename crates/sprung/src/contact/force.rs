@@ -1,7 +1,7 @@
 //! The penalty force of the contacts between bodies, as an entry of the
 //! world's force list (see the module documentation of [`super`]).
 
-use super::pairs::{Touch, Touches};
+use super::pairs::{Touch, Touches, PREFETCH_TOUCHES};
 use crate::forces::{Force, ForceContext, JacobianScale, Linearization};
 use crate::measure::Energies;
 use crate::parallel;
@@ -86,22 +86,10 @@ fn coefficients(context: &ForceContext, touch: &Touch) -> (Real, Real) {
             0.0
         }
     });
-    let first = context.mass[touch.particles[0] as usize];
-    let mass = super::effective_mass(&touch.weights[..count], &inverse_mass[..count], first);
+    // Nothing of weight moves: the first particle's mass.
+    let mass = super::effective_mass(&touch.weights[..count], &inverse_mass[..count])
+        .unwrap_or_else(|| context.mass[touch.particles[0] as usize]);
     context.contacts.settings.coefficients(mass)
-}
-
-/// Ask the processor for the inverse masses and velocities of `touch`'s
-/// particles ahead of their use.
-#[inline(always)]
-fn prefetch_particles(context: &ForceContext, touch: &Touch) {
-    for &p in &touch.particles[..touch.count] {
-        let p = p as usize;
-        if let (Some(w), Some(v)) = (context.inverse_mass.get(p), context.velocity.get(p)) {
-            crate::cache::prefetch(w);
-            crate::cache::prefetch(v);
-        }
-    }
 }
 
 impl Force for BodyContacts {
@@ -125,8 +113,8 @@ impl Force for BodyContacts {
             let mut spans: Spans = [0; 32];
             pushes.clear();
             pushes.extend(touches.iter().enumerate().map(|(i, touch)| {
-                if let Some(ahead) = touches.get(i + crate::cache::PREFETCH_AHEAD) {
-                    prefetch_particles(context, ahead);
+                if let Some(ahead) = touches.get(i + PREFETCH_TOUCHES) {
+                    ahead.prefetch(0, &[context.velocity], &[context.inverse_mass]);
                 }
                 let (k, c) = coefficients(context, touch);
                 let normal_speed = touch.relative(context.velocity).dot(touch.normal);

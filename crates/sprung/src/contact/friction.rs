@@ -40,12 +40,15 @@
 //! together, so the touches between small neighbouring bodies (a pile of
 //! balls) span little; between large ones (two big cloths, a cloth
 //! folded on itself) the width grows with their spans, and with fewer
-//! groups than threads the threads go idle.
+//! groups than threads the threads go idle. With at most
+//! [`parallel::CHUNK`] touches, the same passes run on the calling thread
+//! alone: the same order, so the same bits, without waking the threads
+//! for passes shorter than their waking.
 //!
 //! [`BodyContacts`]: super::BodyContacts
 
 use super::force::{Pushed, Spans};
-use super::pairs::Touch;
+use super::pairs::{Touch, PREFETCH_TOUCHES};
 use super::Contacts;
 use crate::parallel;
 use crate::{Real, Vec3};
@@ -82,13 +85,15 @@ impl Contacts {
                 break;
             }
         }
-        // Every touch in order, with the one `PREFETCH_AHEAD` after it in
-        // its piece (whose particles' data a thread may ask for while it
-        // takes this one).
-        let each = |f: &mut dyn FnMut(&Touch, &Pushed, Option<&Touch>)| {
+        // Every touch in order, with the one `PREFETCH_TOUCHES` after it
+        // in its piece (whose particles' data a thread may ask for while
+        // it takes this one).
+        type Ahead<'a> = Option<(&'a Touch, &'a Pushed)>;
+        let each = |f: &mut dyn FnMut(&Touch, &Pushed, Ahead<'_>)| {
             for (touches, pushed) in touches.iter().zip(pushed) {
-                for (i, (touch, pushed)) in touches.iter().zip(pushed).enumerate() {
-                    f(touch, pushed, touches.get(i + crate::cache::PREFETCH_AHEAD));
+                for (i, (touch, push)) in touches.iter().zip(pushed).enumerate() {
+                    let j = i + PREFETCH_TOUCHES;
+                    f(touch, push, touches.get(j).zip(pushed.get(j)));
                 }
             }
         };
@@ -101,15 +106,20 @@ impl Contacts {
             let align = usize::try_from(2 * width).unwrap_or(usize::MAX);
             let slices = (&mut *position, &mut *velocity);
             let group_pass = |first: usize, (x, v): (&mut [Vec3], &mut [Vec3])| {
+                // Whether this pass, on the share `first..end`, takes a
+                // touch.
                 let end = first + x.len();
-                each(&mut |touch, pushed, ahead| {
-                    if let Some(ahead) = ahead {
-                        prefetch(ahead, first, x, v, inverse_mass);
-                    }
-                    let lowest = pushed.lowest as usize;
+                let takes = |pushed: &Pushed| {
                     let group = u64::from(pushed.lowest) / width;
-                    if grouped(pushed.span) && group % 2 == parity && (first..end).contains(&lowest)
-                    {
+                    grouped(pushed.span)
+                        && group % 2 == parity
+                        && (first..end).contains(&(pushed.lowest as usize))
+                };
+                each(&mut |touch, pushed, ahead| {
+                    if let Some((ahead, _)) = ahead.filter(|(_, p)| takes(p)) {
+                        ahead.prefetch(first, &[x, v], &[inverse_mass]);
+                    }
+                    if takes(pushed) {
                         slide(touch, pushed.push, first, x, v);
                     }
                 });
@@ -128,22 +138,6 @@ impl Contacts {
                 slide(touch, pushed.push, 0, position, velocity);
             }
         });
-    }
-}
-
-/// Ask the processor for the entries of `touch`'s particles that lie in
-/// the share `first..` of positions `x` and velocities `v`, and their
-/// inverse masses, ahead of their use.
-#[inline(always)]
-fn prefetch(touch: &Touch, first: usize, x: &[Vec3], v: &[Vec3], inverse_mass: &[Real]) {
-    for &p in &touch.particles[..touch.count] {
-        let p = p as usize;
-        let at = p.wrapping_sub(first);
-        if let (Some(x), Some(v), Some(w)) = (x.get(at), v.get(at), inverse_mass.get(p)) {
-            crate::cache::prefetch(x);
-            crate::cache::prefetch(v);
-            crate::cache::prefetch(w);
-        }
     }
 }
 

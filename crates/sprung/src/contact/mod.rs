@@ -219,33 +219,31 @@ impl ContactSettings {
 /// particle's mass: where only particles of small weight move (a pinned
 /// particle against a triangle next to its pinned edge), the stiffness
 /// would otherwise grow as `1 / w²` without bound. Pinned particles count
-/// as infinitely heavy; with every particle pinned, the first's `mass`
-/// (kg).
-pub fn effective_mass(weights: &[Real], inverse_mass: &[Real], mass: Real) -> Real {
+/// as infinitely heavy; `None` where nothing of weight moves (every
+/// particle pinned, or only particles of weight zero moving).
+pub fn effective_mass(weights: &[Real], inverse_mass: &[Real]) -> Option<Real> {
     let inverse: Real = weights
         .iter()
         .zip(inverse_mass)
         .map(|(w, m)| w * w * m)
         .sum();
     // The heaviest moving particle's inverse mass. One division for both
-    // the cap and the mass: `min(1/a, 1/b) = 1/max(a, b)` holds exactly
-    // in floating point (a correctly rounded reciprocal never rises as
-    // its argument does), and divisions were most of this function's time.
+    // the cap and the mass: for positive `a` and `b` (subnormal or
+    // infinite included), `min(1/a, 1/b) = 1/max(a, b)` holds exactly in
+    // floating point, as a correctly rounded reciprocal never rises as
+    // its argument does; divisions were most of this function's time.
     let heaviest_inverse = inverse_mass
         .iter()
         .copied()
         .filter(|&m| m > 0.0)
         .fold(Real::INFINITY, Real::min);
-    if inverse > 0.0 {
-        1.0 / inverse.max(heaviest_inverse)
-    } else {
-        mass
-    }
+    (inverse > 0.0).then(|| 1.0 / inverse.max(heaviest_inverse))
 }
 
 #[cfg(test)]
 mod tests {
     use super::effective_mass;
+    use crate::Real;
 
     #[test]
     fn the_effective_mass_is_the_reduced_mass_at_most_the_heaviest_moving_one() {
@@ -253,18 +251,40 @@ mod tests {
         // triangle of 1 kg vertices at its centroid: 1 / (1 + 3/9) = 3/4
         // kg. A pinned particle against a triangle whose only moving
         // vertex (1 kg) has weight 1e-3: 1e6 kg by the formula, capped at
-        // 1 kg. Every particle pinned: the given mass.
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-15 * b;
-        assert!(close(
-            effective_mass(&[1.0, -1.0], &[1.0, 1.0 / 3.0], 9.0),
-            0.75
-        ));
+        // 1 kg. Every particle pinned, or only one of weight zero moving:
+        // none.
+        let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() <= 1e-15 * b);
+        assert!(close(effective_mass(&[1.0, -1.0], &[1.0, 1.0 / 3.0]), 0.75));
         let third = 1.0 / 3.0;
-        let centroid = effective_mass(&[1.0, -third, -third, -third], &[1.0; 4], 9.0);
+        let centroid = effective_mass(&[1.0, -third, -third, -third], &[1.0; 4]);
         assert!(close(centroid, 0.75));
-        let pinned = effective_mass(&[1.0, -0.999, -1e-3, 0.0], &[0.0, 0.0, 1.0, 0.0], 9.0);
-        assert_eq!(pinned, 1.0);
-        assert_eq!(effective_mass(&[1.0, -1.0], &[0.0, 0.0], 9.0), 9.0);
+        let pinned = effective_mass(&[1.0, -0.999, -1e-3, 0.0], &[0.0, 0.0, 1.0, 0.0]);
+        assert_eq!(pinned, Some(1.0));
+        assert_eq!(effective_mass(&[1.0, -1.0], &[0.0, 0.0]), None);
+        assert_eq!(effective_mass(&[1.0, -1.0, 0.0], &[0.0, 0.0, 2.0]), None);
+    }
+
+    #[test]
+    fn one_division_gives_the_bits_of_the_reciprocals_compared() {
+        // Claim: the effective mass, taken with one division as
+        // `1 / max(Σ w² / m, 1 / M)`, is the same bits as `min(1 / Σ w² /
+        // m, M)` with `M` the heaviest moving particle's mass, over masses
+        // from subnormal to huge (the reciprocal of a subnormal inverse
+        // mass overflows to infinity in both), and the largest inverse
+        // mass a float holds.
+        let inverse_masses = [1e-310, 1e-300, 0.37, 1.0, 3.0, 1e300, Real::MAX];
+        for &a in &inverse_masses {
+            for &b in &inverse_masses {
+                for w in [1.0, 0.5, 1e-3, 0.0] {
+                    let weights = [1.0, -w];
+                    let inverse: Real = a + w * w * b;
+                    let heaviest = (1.0 / a).max(1.0 / b);
+                    let expected = (1.0 / inverse).min(heaviest);
+                    let got = effective_mass(&weights, &[a, b]).expect("a moves");
+                    assert_eq!(got.to_bits(), expected.to_bits(), "{a} {b} {w}");
+                }
+            }
+        }
     }
 }
 

@@ -460,6 +460,13 @@ impl Kind {
     ];
 }
 
+/// How many touches ahead a loop over them asks for their particles' data
+/// ([`Touch::prefetch`]): a touch's particles lie scattered over the
+/// arrays (a triangle of another body), and each touch waited on memory
+/// without it (the normal forces of a 1000-ball pile, one thread: 1.0 ms
+/// a step without, 0.55 with; 8 and 16 ahead measured alike).
+pub(crate) const PREFETCH_TOUCHES: usize = 8;
+
 /// Pairs a thread measures at a time (rounded up to whole runs).
 const PAIR_CHUNK: usize = 2048;
 
@@ -651,6 +658,27 @@ impl Touch {
         (0..self.count)
             .map(|k| self.weights[k] * v[self.particles[k] as usize])
             .sum()
+    }
+
+    /// Ask the processor for the touch's particles' entries ahead of
+    /// their use: in each of `shares` (the entries of particles `first..`,
+    /// a thread's share) and in each of `whole` (every particle's). A
+    /// particle outside a share is passed over there.
+    #[inline(always)]
+    pub fn prefetch(&self, first: usize, shares: &[&[Vec3]], whole: &[&[Real]]) {
+        for &p in &self.particles[..self.count] {
+            let p = p as usize;
+            for share in shares {
+                if let Some(entry) = share.get(p.wrapping_sub(first)) {
+                    crate::cache::prefetch(entry);
+                }
+            }
+            for values in whole {
+                if let Some(entry) = values.get(p) {
+                    crate::cache::prefetch(entry);
+                }
+            }
+        }
     }
 
     /// The touch's lowest and highest particles.
