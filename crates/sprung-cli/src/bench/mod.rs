@@ -257,10 +257,10 @@ fn machine(one_pool: &parallel::Pool, all_pool: &parallel::Pool, quick: bool) ->
 
 /// Build `case` and time it on `pool`'s threads: a warm-up step or two
 /// (sizing the buffers, factoring the projective matrix), then at least
-/// `steps` steps (or the case's least, if more) and `seconds` of wall clock, or [`LONGEST_SECONDS`] if
-/// that comes first. A case that cannot run that
-/// long (explicit Euler gains energy until it blows up) starts again from
-/// its first state, untimed.
+/// `steps` steps (or the case's least, if more) and `seconds` of wall
+/// clock, or [`LONGEST_SECONDS`] if that comes first. A case that cannot
+/// run that long (explicit Euler gains energy until it blows up) starts
+/// again from its first state, untimed.
 fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<Row, CliError> {
     let threads = pool.threads();
     let steps = steps.max(case.least_steps);

@@ -114,7 +114,7 @@ impl Force for BodyContacts {
             pushes.clear();
             pushes.extend(touches.iter().enumerate().map(|(i, touch)| {
                 if let Some(ahead) = touches.get(i + PREFETCH_TOUCHES) {
-                    ahead.prefetch(0, &[context.velocity], &[context.inverse_mass]);
+                    ahead.prefetch(context.velocity, context.inverse_mass);
                 }
                 let (k, c) = coefficients(context, touch);
                 let normal_speed = touch.relative(context.velocity).dot(touch.normal);

@@ -48,7 +48,7 @@
 //! [`BodyContacts`]: super::BodyContacts
 
 use super::force::{Pushed, Spans};
-use super::pairs::{Touch, PREFETCH_TOUCHES};
+use super::pairs::Touch;
 use super::Contacts;
 use crate::parallel;
 use crate::{Real, Vec3};
@@ -85,15 +85,10 @@ impl Contacts {
                 break;
             }
         }
-        // Every touch in order, with the one `PREFETCH_TOUCHES` after it
-        // in its piece (whose particles' data a thread may ask for while
-        // it takes this one).
-        type Ahead<'a> = Option<(&'a Touch, &'a Pushed)>;
-        let each = |f: &mut dyn FnMut(&Touch, &Pushed, Ahead<'_>)| {
+        let each = |f: &mut dyn FnMut(&Touch, &Pushed)| {
             for (touches, pushed) in touches.iter().zip(pushed) {
-                for (i, (touch, push)) in touches.iter().zip(pushed).enumerate() {
-                    let j = i + PREFETCH_TOUCHES;
-                    f(touch, push, touches.get(j).zip(pushed.get(j)));
+                for (touch, pushed) in touches.iter().zip(pushed) {
+                    f(touch, pushed);
                 }
             }
         };
@@ -115,10 +110,7 @@ impl Contacts {
                         && group % 2 == parity
                         && (first..end).contains(&(pushed.lowest as usize))
                 };
-                each(&mut |touch, pushed, ahead| {
-                    if let Some((ahead, _)) = ahead.filter(|(_, p)| takes(p)) {
-                        ahead.prefetch(first, &[x, v], &[inverse_mass]);
-                    }
+                each(&mut |touch, pushed| {
                     if takes(pushed) {
                         slide(touch, pushed.push, first, x, v);
                     }
@@ -133,7 +125,7 @@ impl Contacts {
                 parallel::for_each_aligned_share(slices, align, offset, group_pass);
             }
         }
-        each(&mut |touch, pushed, _| {
+        each(&mut |touch, pushed| {
             if !grouped(pushed.span) {
                 slide(touch, pushed.push, 0, position, velocity);
             }
