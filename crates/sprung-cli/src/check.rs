@@ -124,7 +124,7 @@ pub fn run(path: &Path) -> Result<(), CliError> {
     } else {
         println!("  stable step of the explicit integrators: unlimited (nothing stiff)");
     }
-    for warning in start_warnings(world) {
+    for warning in scene.warnings.iter().chain(&start_warnings(world)) {
         eprintln!("warning: {warning}");
     }
     Ok(())

@@ -133,7 +133,8 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         .contact_pairs_now(scene.dt)
         .map_err(|e| CliError::Input(e.to_string()))?;
     if resumed.is_none() {
-        for warning in crate::check::start_warnings(&scene.world) {
+        let at_start = crate::check::start_warnings(&scene.world);
+        for warning in scene.warnings.iter().chain(&at_start) {
             eprintln!("warning: {warning}");
         }
     }

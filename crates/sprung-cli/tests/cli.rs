@@ -604,6 +604,26 @@ fn a_body_that_starts_inside_a_collider_is_warned_about() {
 }
 
 #[test]
+fn a_velocity_given_to_pinned_particles_is_warned_about_by_check_and_run() {
+    // A rope thrown sideways whose top is pinned: the top stays. Claim:
+    // `check` and `run` both say so, with the file and the line of
+    // `velocity`, and the run goes on.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scene = "[sim]\ndt = 1e-3\nsteps = 2\n\n[[body]]\nname = \"rope\"\nrope = { particles = 4, length = 1.0 }\nvelocity = [1.0, 0.0, 0.0]\n";
+    write(dir.path(), "thrown.toml", scene);
+    let expected = "warning: thrown.toml:8: body \"rope\": particle 0 given a velocity is pinned";
+    for args in [
+        &["check", "thrown.toml"][..],
+        &["run", "thrown.toml", "--quiet"],
+    ] {
+        let output = sprung(args, dir.path());
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        let stderr = text(&output.stderr);
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+    }
+}
+
+#[test]
 fn wind_on_bodies_it_cannot_push_is_warned_about() {
     // A rope (no faces, no segments) and a cloth in a wind: wind pushes on
     // faces, so the rope feels nothing. Claim: `check` names the rope, and

@@ -57,6 +57,34 @@ fn the_base_scene_is_good() {
 }
 
 #[test]
+fn pinning_that_will_not_happen_as_written_is_warned_about_with_its_line() {
+    // Claims: the base scene warns of nothing; a velocity given to pinned
+    // particles (which the engine keeps still) is named with the
+    // particles and the line of `velocity`, and the run starts with them
+    // at rest; a particle pinned twice is named with the line of `pinned`.
+    let scene = parse_scene(GOOD, Path::new("good.toml")).expect("valid scene");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let moving = variant(
+        "mass = 1.0\n",
+        "mass = 1.0\npinned = [0, 2]\nvelocity = [1.0, 0.0, 0.0]\n",
+    );
+    let scene = parse_scene(&moving, Path::new("good.toml")).expect("valid scene");
+    assert_eq!(
+        scene.warnings,
+        ["good.toml:11: body \"b\": particles 0 and 2 given a velocity are pinned: a pinned particle stays where it is, so its velocity is set to zero"]
+    );
+    let velocity = &scene.world.particles.velocity;
+    assert_eq!(velocity[0], sprung::Vec3::ZERO);
+    assert_eq!(velocity[1], sprung::Vec3::new(1.0, 0.0, 0.0));
+    let twice = variant("mass = 1.0\n", "mass = 1.0\npinned = [1, 0, 1]\n");
+    let scene = parse_scene(&twice, Path::new("good.toml")).expect("valid scene");
+    assert_eq!(
+        scene.warnings,
+        ["good.toml:10: body \"b\": `pinned` lists particle 1 more than once (each is pinned once)"]
+    );
+}
+
+#[test]
 fn points_given_partly_in_2d_and_partly_in_3d_are_refused() {
     assert_error(
         &variant("[1.0, 0.0, 0.0], [2.0", "[1.0, 0.0], [2.0"),

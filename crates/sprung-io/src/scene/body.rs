@@ -519,6 +519,62 @@ pub(crate) fn aliases(key: &str) -> Vec<&str> {
     }
 }
 
+/// What a body's `pinned` list asks that will not happen as written, each
+/// with the key to point at: particles listed more than once (pinned
+/// once), and pinned particles given a velocity (they stay where they are:
+/// the engine sets their velocity to zero).
+pub(crate) fn pinning_warnings(table: &BodyTable, data: &BodyData) -> Vec<(&'static str, String)> {
+    let mut warnings = Vec::new();
+    let mut pinned = data.pinned.clone();
+    pinned.sort_unstable();
+    let twice: Vec<usize> = pinned
+        .windows(2)
+        .filter(|w| w[0] == w[1])
+        .map(|w| w[0])
+        .collect();
+    pinned.dedup();
+    if !twice.is_empty() {
+        warnings.push((
+            "pinned",
+            format!(
+                "`pinned` lists {} more than once (each is pinned once)",
+                listed("particle", &twice)
+            ),
+        ));
+    }
+    let moving: Vec<usize> = pinned
+        .into_iter()
+        .filter(|&i| data.velocity.get(i).is_some_and(|v| *v != Vec3::ZERO))
+        .collect();
+    if !moving.is_empty() {
+        let key = if table.velocities.is_some() {
+            "velocities"
+        } else {
+            "velocity"
+        };
+        warnings.push((
+            key,
+            format!(
+                "{} given a velocity {} pinned: a pinned particle stays where it is, so its velocity is set to zero",
+                listed("particle", &moving),
+                if moving.len() == 1 { "is" } else { "are" }
+            ),
+        ));
+    }
+    warnings
+}
+
+/// `particle 3`, `particles 3, 7 and 9`, or the first few and a count.
+fn listed(what: &str, indices: &[usize]) -> String {
+    const SHOWN: usize = 5;
+    let shown: Vec<String> = indices.iter().take(SHOWN).map(usize::to_string).collect();
+    match indices.len() {
+        1 => format!("{what} {}", shown[0]),
+        n if n <= SHOWN => format!("{what}s {} and {}", shown[..n - 1].join(", "), shown[n - 1]),
+        n => format!("{what}s {} and {} more", shown.join(", "), n - SHOWN),
+    }
+}
+
 /// The scene key a [`BuildError`] is about, to find its line.
 pub(crate) fn key_of(error: &BuildError) -> &'static str {
     match error {

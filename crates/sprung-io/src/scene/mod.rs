@@ -58,6 +58,10 @@ pub struct Scene {
     pub path: PathBuf,
     /// Where pictures are taken from, if the scene says (`[camera]`).
     pub camera: SceneCamera,
+    /// What the scene asks that is not an error but will not do what it
+    /// seems to, each as `file:line: message` (a velocity given to pinned
+    /// particles, a particle pinned twice).
+    pub warnings: Vec<String>,
 }
 
 /// The `[camera]` table: each part `None` where the scene leaves it to the
@@ -153,11 +157,16 @@ pub fn parse_scene_with(
     // What the later tables need of each body: (span, name, wind_scale,
     // gravitating).
     let mut bodies = Vec::new();
+    let mut warnings = Vec::new();
     let mut add = |world: &mut World, table: Spanned<BodyTable>| -> Result<(), SceneError> {
         let span = table.span();
         let body = table.get_ref();
         let data = body::body_data(body, scene_dir, files)
             .map_err(|(key, m)| at(span.clone(), key, format!("body \"{}\": {m}", body.name)))?;
+        for (key, message) in body::pinning_warnings(body, &data) {
+            let message = format!("body \"{}\": {message}", body.name);
+            warnings.push(at(span.clone(), key, message).to_string());
+        }
         // Each builder keeps within the limits; the bodies together must
         // too, checked before the world takes a copy of this one.
         let particles = world.particles.len() + data.position.len();
@@ -247,6 +256,7 @@ pub fn parse_scene_with(
         steps,
         every: sim.every,
         path: path.to_path_buf(),
+        warnings,
     })
 }
 
