@@ -186,6 +186,20 @@ fn contacts_are_the_same_on_one_and_two_threads() {
 }
 
 #[test]
+fn friction_on_a_rigid_body_is_the_same_on_one_and_two_threads() {
+    // The contact scene with a rigid die (0.2 kg) set on the right ball,
+    // within the thickness, sliding across it at 1 m/s: its touches take
+    // friction through its motion, on one thread, after the others.
+    let scene = format!(
+        "{CONTACTS}\n[[body]]\nname = \"die\"\n\
+         lattice = {{ nx = 3, ny = 3, nz = 3, spacing = 0.05 }}\ntotal_mass = 0.2\n\
+         stiffness = 500.0\nrigid = true\ntranslate = [0.45, 0.556, -0.05]\n\
+         velocity = [1.0, 0.0, 0.0]\n"
+    );
+    assert_same_on_one_and_two_threads(&scene, "friction on a rigid die");
+}
+
+#[test]
 fn implicit_solvers_are_the_same_on_one_and_two_threads() {
     let scene = cloth("implicit_euler", 1.0 / 60.0, 3, "");
     assert_same_on_one_and_two_threads(&scene, "implicit Euler cloth");

@@ -24,7 +24,7 @@ use crate::collide::{self, Collider, ContactConstraint};
 use crate::constrain::{
     ConstraintSettings, Muscle, Muscles, RigidBodies, RigidBody, RodReport, Rods,
 };
-use crate::contact::{BodyContacts, Contacts, TooManyPairs};
+use crate::contact::{BodyContacts, Contacts, RigidParts, TooManyPairs};
 use crate::error::{BlowUpReason, BuildError, StepError};
 use crate::forces::{
     self, AirDrag, ForceContext, ForceList, GasPressure, Gravity, JacobianScale, Jacobians,
@@ -459,11 +459,13 @@ impl World {
             self.advance_time(h);
             self.collide();
             if let Some(contact_force) = self.forces.get::<BodyContacts>() {
+                let rigid = RigidParts::new(&self.rigid.list, &self.particles.mass);
                 self.contacts.apply_friction(
                     contact_force.pieces(),
                     &mut self.particles.position,
                     &mut self.particles.velocity,
                     &self.particles.inverse_mass,
+                    &rigid,
                     h,
                 );
             }

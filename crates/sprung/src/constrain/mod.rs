@@ -18,6 +18,7 @@ mod rigid;
 mod rods;
 
 pub use muscles::{Muscle, Muscles};
+pub(crate) use rigid::Motion;
 pub use rigid::{RigidBodies, RigidBody};
 pub use rods::{RodReport, Rods};
 

@@ -63,18 +63,46 @@ pub struct RigidBody {
     rubbed: Vec<Vec3>,
 }
 
+/// A rigid body's motion: centre of mass (m), its velocity `drift` (m/s),
+/// the `spin` (rad/s), the total mass (kg) and the inverse inertia
+/// (1/(kg·m²)) about the centre.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-struct Motion {
-    centre: Vec3,
-    drift: Vec3,
-    spin: Vec3,
-    mass: Real,
-    inverse_inertia: DMat3,
+pub(crate) struct Motion {
+    pub centre: Vec3,
+    pub drift: Vec3,
+    pub spin: Vec3,
+    pub mass: Real,
+    pub inverse_inertia: DMat3,
 }
 
 impl Motion {
+    /// The motion of the particles `x` (m) with velocities `v` (m/s) and
+    /// masses `m` (kg) as one rigid body: the momentum and the angular
+    /// momentum about their centre of mass that the projection
+    /// ([`RigidBody::project`]) keeps, with the inertia of where they are.
+    pub fn of(x: &[Vec3], v: &[Vec3], m: &[Real]) -> Motion {
+        let (centre, total) = centre_of_mass(x, m);
+        let mut momentum = Vec3::ZERO;
+        let mut angular = Vec3::ZERO;
+        let mut inertia = DMat3::ZERO;
+        for ((&x, &v), &m) in x.iter().zip(v).zip(m) {
+            let arm = x - centre;
+            momentum += m * v;
+            angular += m * arm.cross(v);
+            inertia += point_inertia(m, arm);
+        }
+        let inverse_inertia = inverse_inertia(inertia);
+        Motion {
+            centre,
+            drift: momentum / total,
+            spin: inverse_inertia * angular,
+            mass: total,
+            inverse_inertia,
+        }
+    }
+
     /// Velocity (m/s) of the body's point at `x` (m).
-    fn velocity_at(&self, x: Vec3) -> Vec3 {
+    pub fn velocity_at(&self, x: Vec3) -> Vec3 {
         self.drift + self.spin.cross(x - self.centre)
     }
 
@@ -154,8 +182,7 @@ impl RigidBody {
         for ((x, &q), &m) in x.iter_mut().zip(&self.rest).zip(m) {
             let arm = r * q;
             *x = centre + arm;
-            inertia +=
-                m * (DMat3::from_diagonal(Vec3::splat(arm.length_squared())) - outer(arm, arm));
+            inertia += point_inertia(m, arm);
         }
         let inverse_inertia = inverse_inertia(inertia);
         self.motion = Motion {
@@ -319,6 +346,11 @@ fn centre_of_mass(x: &[Vec3], m: &[Real]) -> (Vec3, Real) {
     let total: Real = m.iter().sum();
     let moment: Vec3 = x.iter().zip(m).map(|(&x, &m)| m * x).sum();
     (moment / total, total)
+}
+
+/// The inertia (kg·m²) of a mass `m` (kg) at `arm` (m) from the centre.
+fn point_inertia(m: Real, arm: Vec3) -> DMat3 {
+    m * (DMat3::from_diagonal(Vec3::splat(arm.length_squared())) - outer(arm, arm))
 }
 
 /// `a bᵀ`.

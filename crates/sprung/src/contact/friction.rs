@@ -43,12 +43,15 @@
 //! groups than threads the threads go idle. With at most
 //! [`parallel::CHUNK`] touches, the same passes run on the calling thread
 //! alone: the same order, so the same bits, without waking the threads
-//! for passes shorter than their waking.
+//! for passes shorter than their waking. The touches with a rigid body's
+//! particles are left out of these passes and taken last, on one thread,
+//! through the bodies' motions ([`super::rigid_friction`]).
 //!
 //! [`BodyContacts`]: super::BodyContacts
 
 use super::force::{Pushed, Spans};
 use super::pairs::Touch;
+use super::rigid_friction::RigidParts;
 use super::Contacts;
 use crate::parallel;
 use crate::{Real, Vec3};
@@ -62,13 +65,16 @@ impl Contacts {
     /// `touches` (piece by piece), each with the normal force (N) it
     /// pushed with over a (sub)step of `dt` (s) and its particles' extent
     /// in `pushed` (piece by piece too), moving `position` (m) by the
-    /// velocity change times `dt`; `spans` counts the touches' spans.
+    /// velocity change times `dt`; `spans` counts the touches' spans. The
+    /// touches with particles of the `rigid` bodies act on their motion,
+    /// last ([`super::rigid_friction`]).
     pub(crate) fn apply_friction(
-        &self,
+        &mut self,
         (touches, pushed, spans): (&[Vec<Touch>], &[Vec<Pushed>], &Spans),
         position: &mut [Vec3],
         velocity: &mut [Vec3],
         inverse_mass: &[Real],
+        rigid: &RigidParts<'_>,
         dt: Real,
     ) {
         let friction = self.settings.friction;
@@ -104,14 +110,15 @@ impl Contacts {
                 // Whether this pass, on the share `first..end`, takes a
                 // touch.
                 let end = first + x.len();
-                let takes = |pushed: &Pushed| {
+                let takes = |touch: &Touch, pushed: &Pushed| {
                     let group = u64::from(pushed.lowest) / width;
                     grouped(pushed.span)
                         && group % 2 == parity
                         && (first..end).contains(&(pushed.lowest as usize))
+                        && !rigid.takes(touch)
                 };
                 each(&mut |touch, pushed| {
-                    if takes(pushed) {
+                    if takes(touch, pushed) {
                         slide(touch, pushed.push, first, x, v);
                     }
                 });
@@ -125,11 +132,17 @@ impl Contacts {
                 parallel::for_each_aligned_share(slices, align, offset, group_pass);
             }
         }
+        let found = &mut self.rigid_friction.found;
+        found.clear();
         each(&mut |touch, pushed| {
-            if !grouped(pushed.span) {
+            if rigid.takes(touch) {
+                found.push((*touch, pushed.push));
+            } else if !grouped(pushed.span) {
                 slide(touch, pushed.push, 0, position, velocity);
             }
         });
+        let scratch = &mut self.rigid_friction;
+        rigid.apply_friction(scratch, position, velocity, inverse_mass, friction, dt);
     }
 }
 

@@ -90,11 +90,13 @@ mod force;
 mod friction;
 mod links;
 mod pairs;
+mod rigid_friction;
 mod state;
 
 pub use detect::{pair_limit, TooManyPairs, MIN_PAIR_LIMIT, PAIRS_PER_ELEMENT};
 pub use force::BodyContacts;
 pub use pairs::{ContactPairs, EdgeEdge, PointPoint, PointSegment, PointTriangle};
+pub(crate) use rigid_friction::RigidParts;
 
 use crate::error::BuildError;
 use crate::Real;
@@ -299,4 +301,5 @@ pub struct Contacts {
     scratch: detect::Scratch,
     found: detect::Found,
     links: links::Links,
+    rigid_friction: rigid_friction::Scratch,
 }
