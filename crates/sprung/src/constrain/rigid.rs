@@ -106,6 +106,29 @@ impl Motion {
         self.drift + self.spin.cross(x - self.centre)
     }
 
+    /// `Σ wᵢ vᵢ` over points of the body with weights `wᵢ` summing to
+    /// `weight`, and weighted arms `Σ wᵢ (xᵢ - c)` summing to `arm` (m):
+    /// their weighted velocity (m/s).
+    pub fn velocity_of(&self, weight: Real, arm: Vec3) -> Vec3 {
+        weight * self.drift + self.spin.cross(arm)
+    }
+
+    /// The inverse effective mass (1/kg) along `along` of points of the
+    /// body taken with weights summing to `weight` and weighted arms
+    /// summing to `arm` (m), as [`Motion::velocity_of`]: `weight² / M +
+    /// (arm × t)·I⁻¹ (arm × t)`.
+    pub fn inverse_mass_of(&self, weight: Real, arm: Vec3, along: Vec3) -> Real {
+        let turn = arm.cross(along);
+        weight * weight / self.mass + turn.dot(self.inverse_inertia * turn)
+    }
+
+    /// Apply `impulse` (N·s) shared by points of the body with weights
+    /// summing to `weight` and weighted arms summing to `arm` (m).
+    pub fn kick_shared(&mut self, weight: Real, arm: Vec3, impulse: Vec3) {
+        self.drift += weight * impulse / self.mass;
+        self.spin += self.inverse_inertia * arm.cross(impulse);
+    }
+
     /// Apply `impulse` (N·s) at the point `x` (m).
     fn kick(&mut self, x: Vec3, impulse: Vec3) {
         self.drift += impulse / self.mass;

@@ -136,7 +136,9 @@ impl Contacts {
         found.clear();
         each(&mut |touch, pushed| {
             if rigid.takes(touch) {
-                found.push((*touch, pushed.push));
+                if !rigid.within_one(touch) {
+                    found.push((*touch, pushed.push));
+                }
             } else if !grouped(pushed.span) {
                 slide(touch, pushed.push, 0, position, velocity);
             }

@@ -9,10 +9,25 @@
 //! crept down it. So a touch with a rigid body's particles takes its
 //! impulse on the body's motion ([`Motion`], from the particles' momentum
 //! and angular momentum before the projection), sized with the body's
-//! effective mass at the touch, `1/M + a·(I⁻¹ a)` with `a = Σ wᵢ (xᵢ - c)
-//! × t` over its particles, as sequential impulses: [`PASSES`] passes
-//! over these touches in order, each touch's accumulated impulse at most
-//! `μ f_n dt` (Coulomb), as the rigid bodies' colliders do. Afterwards each
+//! effective mass at the touch, `W²/M + (a × t)·I⁻¹ (a × t)` with `W =
+//! Σ wᵢ` and `a = Σ wᵢ (xᵢ - c)` over its particles, as sequential
+//! impulses: [`PASSES`] passes over these touches in order, each touch's
+//! accumulated impulse at most `μ f_n dt` (Coulomb), as the rigid bodies'
+//! colliders do.
+//!
+//! The friction at the touches under a body turns it (a block pushed
+//! back at its foot tips forward), which the contact forces resist only
+//! in the next step: the turn drove a block's front edge in and lifted its
+//! back, and it crept down a 20° slope at 0.5 mm/s where it should hold.
+//! So each pass first gives the touch a normal impulse that brings its
+//! normal speed back to what the forces left, as the contact's stiff
+//! push would within the step: an impulse that may take back at most the
+//! forces' own push over the step (`f_n dt`), so that the touch never
+//! pulls (pushing only, it still crept at 0.3 mm/s: the back edge must
+//! bear less of the weight, as on a real slope). Touches all of whose particles are one rigid body's are left
+//! out: a body does not rub on itself.
+//!
+//! Afterwards each
 //! body's particles take the change of its motion, `Δv = ΔV + Δω × (x -
 //! c)`, which the projection then keeps, and move by the change of its
 //! drift times the step, as if the impulses had acted from its start (not
@@ -79,6 +94,17 @@ impl<'a> RigidParts<'a> {
                 .any(|&p| self.body_of(p).is_some())
     }
 
+    /// True when all the touch's particles are one rigid body's: a body
+    /// touching itself, which does not rub (its friction would only
+    /// brake its own spin).
+    pub fn within_one(&self, touch: &Touch) -> bool {
+        let mut bodies = touch.particles[..touch.count]
+            .iter()
+            .map(|&p| self.body_of(p));
+        let first = bodies.next().flatten();
+        first.is_some() && bodies.all(|b| b == first)
+    }
+
     /// Apply the friction impulses of the touches in `scratch` (each with
     /// the normal force (N) it pushed with; each takes a rigid body's
     /// particle) to `velocity` (m/s), moving `position` (m) too, with
@@ -127,7 +153,7 @@ impl<'a> RigidParts<'a> {
                 .map(|&(touch, push)| RigidTouch::new(touch, push, self, position, start)),
         );
         for touch in touches.iter_mut() {
-            touch.closing = touch.relative(velocity, motion).dot(touch.touch.normal);
+            touch.normal_speed = touch.relative(velocity, motion).dot(touch.touch.normal);
         }
         for _ in 0..PASSES {
             for touch in touches.iter_mut() {
@@ -183,8 +209,11 @@ struct RigidTouch {
     rigid: [bool; 4],
     /// The rigid bodies it takes, each once.
     shares: [Option<Share>; 4],
-    /// The normal speed the forces left (m/s).
-    closing: Real,
+    /// The normal speed (m/s) the forces left, positive apart.
+    normal_speed: Real,
+    /// The normal impulse (N·s) so far: at least `-f_n dt`, so that with
+    /// the forces' own push over the step it never pulls.
+    pushed: Real,
     /// The friction impulse so far (N·s).
     rubbed: Vec3,
 }
@@ -207,11 +236,13 @@ impl RigidTouch {
                 continue;
             };
             *is_rigid = true;
+            // A touch has at most four particles, so four shares hold its
+            // bodies: a slot is always found.
             let Some(share) = shares
                 .iter_mut()
                 .find(|share| share.is_none_or(|s| s.body == body))
             else {
-                continue;
+                unreachable!("a touch has at most four particles");
             };
             let share = share.get_or_insert(Share {
                 body,
@@ -226,7 +257,8 @@ impl RigidTouch {
             push,
             rigid,
             shares,
-            closing: 0.0,
+            normal_speed: 0.0,
+            pushed: 0.0,
             rubbed: Vec3::ZERO,
         }
     }
@@ -248,7 +280,7 @@ impl RigidTouch {
             .shares
             .iter()
             .flatten()
-            .filter_map(|s| motion[s.body].map(|m| s.weight * m.drift + m.spin.cross(s.arm)))
+            .filter_map(|s| motion[s.body].map(|m| m.velocity_of(s.weight, s.arm)))
             .sum();
         loose + rigid
     }
@@ -263,11 +295,7 @@ impl RigidTouch {
             .shares
             .iter()
             .flatten()
-            .filter_map(|s| {
-                let m = motion[s.body]?;
-                let turn = s.arm.cross(along);
-                Some(s.weight * s.weight / m.mass + turn.dot(m.inverse_inertia * turn))
-            })
+            .filter_map(|s| motion[s.body].map(|m| m.inverse_mass_of(s.weight, s.arm, along)))
             .sum();
         loose + rigid
     }
@@ -290,15 +318,15 @@ impl RigidTouch {
         }
         for share in self.shares.iter().flatten() {
             if let Some(m) = &mut motion[share.body] {
-                m.drift += share.weight * impulse / m.mass;
-                m.spin += m.inverse_inertia * share.arm.cross(impulse);
+                m.kick_shared(share.weight, share.arm, impulse);
             }
         }
     }
 
     /// One pass of sequential impulses: the normal speed back to what the
-    /// forces left, then the sliding stopped by at most `μ f_n dt` in all
-    /// (`friction_step` = `μ dt`, s).
+    /// forces left, by a normal impulse that takes back at most their own
+    /// push over the step (`f_n dt`: the sum never pulls); then the sliding
+    /// stopped by at most `μ f_n dt` in all (`friction_step` = `μ dt`, s).
     fn pass(
         &mut self,
         friction_step: Real,
@@ -306,18 +334,24 @@ impl RigidTouch {
         motion: &mut [Option<Motion>],
         dt: Real,
     ) {
+        if self.push == 0.0 {
+            return;
+        }
         let (position, velocity, inverse_mass) = loose;
         let normal = self.touch.normal;
         let along_normal = self.inverse_mass(normal, inverse_mass, motion);
         if along_normal > 0.0 {
             let speed = self.relative(velocity, motion).dot(normal);
-            let impulse = (self.closing - speed) / along_normal * normal;
+            let wanted = (self.normal_speed - speed) / along_normal;
+            let total = (self.pushed + wanted).max(-self.push * dt);
+            let impulse = (total - self.pushed) * normal;
+            self.pushed = total;
             self.kick(impulse, (position, velocity, inverse_mass), motion, dt);
         }
         let now = self.relative(velocity, motion);
         let sliding = now - now.dot(normal) * normal;
         let speed = sliding.length();
-        if self.push == 0.0 || speed == 0.0 {
+        if speed == 0.0 {
             return;
         }
         let along = sliding / speed;
