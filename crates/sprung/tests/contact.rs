@@ -28,11 +28,12 @@ const KINDS: [(IntegratorKind, Real); 6] = [
 /// apart (`offset` m off-centre), thrown at each other at `speed` m/s each,
 /// in free space, with friction 0.3 between them.
 fn two_balls(kind: IntegratorKind, speed: Real, offset: Real) -> World {
-    balls_meeting(kind, speed, offset, false)
+    balls_meeting(kind, speed, offset, [false; 2])
 }
 
-/// [`two_balls`], the left one rigid (and without gas) where `rigid_left`.
-fn balls_meeting(kind: IntegratorKind, speed: Real, offset: Real, rigid_left: bool) -> World {
+/// [`two_balls`], the left and the right one rigid (and without gas) where
+/// `rigid` says.
+fn balls_meeting(kind: IntegratorKind, speed: Real, offset: Real, rigid: [bool; 2]) -> World {
     let mut world = World::new(kind);
     world.set_gravity(Vec3::ZERO);
     world.contacts.settings.friction = 0.3;
@@ -45,7 +46,7 @@ fn balls_meeting(kind: IntegratorKind, speed: Real, offset: Real, rigid_left: bo
             .with_damping(0.5)
             .placed(1.0, Vec3::ZERO, Vec3::new(x, y, 0.0))
             .with_velocity(Vec3::new(v, 0.0, 0.0));
-        ball.rigid = rigid_left && name == "left";
+        ball.rigid = rigid[usize::from(name == "right")];
         ball.gas = (!ball.rigid).then(|| Gas::new(500.0, 0.0));
         world.add_body(name, ball).expect("valid body");
     }
@@ -153,8 +154,17 @@ fn a_rigid_ball_meeting_a_soft_one_off_centre_conserves_momentum() {
     // acts on its motion (`rigid_friction`), equal and opposite on the two
     // sides, so the claims of `check_head_on` hold as for two soft balls.
     for (kind, dt) in KINDS {
-        let world = balls_meeting(kind, 2.0, 0.15, true);
+        let world = balls_meeting(kind, 2.0, 0.15, [true, false]);
         check_head_on(world, dt, 0.6, "a rigid ball and a soft one");
+    }
+}
+
+#[test]
+fn two_rigid_balls_meeting_off_centre_conserve_momentum() {
+    // Both balls rigid: each touch's impulse is shared by two motions.
+    for (kind, dt) in KINDS {
+        let world = balls_meeting(kind, 2.0, 0.15, [true, true]);
+        check_head_on(world, dt, 0.6, "two rigid balls");
     }
 }
 
