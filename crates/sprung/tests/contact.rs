@@ -182,12 +182,13 @@ fn a_body_that_does_not_collide_passes_through() {
     assert!(gap < -0.5, "centroids {gap} m apart along x");
 }
 
-/// A block (a 3 × 3 × 3 lattice 0.2 m wide, 0.5 kg) set down at rest on a
-/// 4 m pinned cloth tilted by `angle` degrees about z, its lowest particles
-/// at the contact thickness from the cloth, with friction `mu` between
-/// them; a rigid block where `rigid`. Returns how far (m) the block's
-/// centroid has gone down the slope at 1, 1.5 and 2 s.
-fn slide_on_tilted_body(angle: Real, mu: Real, rigid: bool) -> [Real; 3] {
+/// A block (a lattice of 3 × `layers` × 3 particles 0.1 m apart, 0.2 m
+/// wide, 0.5 kg) set down at rest on a 4 m pinned cloth tilted by `angle`
+/// degrees about z, its lowest particles at the contact thickness from the
+/// cloth, with friction `mu` between them; a rigid block where `rigid`.
+/// Returns the world (the block is its body 1), the slope's normal and its
+/// downhill direction.
+fn block_on_tilted_body(angle: Real, mu: Real, rigid: bool, layers: usize) -> (World, Vec3, Vec3) {
     let mut world = World::new(IntegratorKind::SymplecticEuler);
     world.contacts.settings.friction = mu;
     let n = 21;
@@ -202,7 +203,7 @@ fn slide_on_tilted_body(angle: Real, mu: Real, rigid: bool) -> [Real; 3] {
         .placed(1.0, Vec3::new(-90.0, 0.0, 0.0), Vec3::new(-2.0, 0.0, 2.0))
         .placed(1.0, tilt, Vec3::ZERO);
     world.add_body("ground", ground).expect("valid body");
-    let mut block = build::lattice(3, 3, 3, 0.1)
+    let mut block = build::lattice(3, layers, 3, 0.1)
         .expect("valid lattice")
         .with_total_mass(0.5)
         .with_stiffness(2000.0)
@@ -219,6 +220,13 @@ fn slide_on_tilted_body(angle: Real, mu: Real, rigid: bool) -> [Real; 3] {
     let lift = world.contacts.settings.thickness - lowest;
     block.position.iter_mut().for_each(|x| *x += lift * normal);
     world.add_body("block", block).expect("valid body");
+    (world, normal, downhill)
+}
+
+/// The 3 × 3 × 3 block of [`block_on_tilted_body`]: how far (m) its
+/// centroid has gone down the slope at 1, 1.5 and 2 s.
+fn slide_on_tilted_body(angle: Real, mu: Real, rigid: bool) -> [Real; 3] {
+    let (mut world, _, downhill) = block_on_tilted_body(angle, mu, rigid, 3);
     let start = world.centroid(1).expect("a body");
     let mut down = [0.0; 3];
     for step in 1..=10_000 {
@@ -272,6 +280,32 @@ fn friction_holds_a_block_on_a_tilted_body_below_the_friction_angle() {
                 "{angle}° with μ = {mu} (rigid: {rigid}): slides at {acceleration} m/s², \
                  Coulomb {coulomb}"
             );
+        }
+    }
+}
+
+#[test]
+fn a_tall_rigid_block_tips_over_on_a_slope_steeper_than_its_base_allows() {
+    // A rigid block 0.2 m wide and 0.6 m tall (3 × 7 × 3 particles) on the
+    // tilted body with friction μ = 1 (friction angle 45°, so it does not
+    // slide below that). Its centre of mass stands above its base until
+    // the slope reaches atan(0.2 / 0.6) = 18.4°: at 12° it stays upright
+    // (turned by less than 1° after 1.5 s; measured: 3e-5°), at 25° it
+    // tips over (turned by more than 30°; measured: 90°, on its side).
+    // The friction impulses' normal step keeps the normal speeds the
+    // forces left, but takes back at most their push, so the uphill edge
+    // can lift: unbounded, it held the block upright at 25° (6e-5°).
+    for (angle, upright) in [(12.0, true), (25.0, false)] {
+        let (mut world, normal, _) = block_on_tilted_body(angle, 1.0, true, 7);
+        let up = |world: &World| world.rigid.list[0].rotation * normal;
+        for _ in 0..7_500 {
+            world.step(2e-4).expect("stable");
+        }
+        let turned = up(&world).angle_between(normal).to_degrees();
+        if upright {
+            assert!(turned < 1.0, "at {angle}° it turned by {turned}°");
+        } else {
+            assert!(turned > 30.0, "at {angle}° it turned by only {turned}°");
         }
     }
 }
