@@ -103,7 +103,7 @@ impl Motion {
 
     /// Velocity (m/s) of the body's point at `x` (m).
     pub fn velocity_at(&self, x: Vec3) -> Vec3 {
-        self.drift + self.spin.cross(x - self.centre)
+        self.velocity_of(1.0, x - self.centre)
     }
 
     /// `Σ wᵢ vᵢ` over points of the body with weights `wᵢ` summing to
@@ -131,8 +131,7 @@ impl Motion {
 
     /// Apply `impulse` (N·s) at the point `x` (m).
     fn kick(&mut self, x: Vec3, impulse: Vec3) {
-        self.drift += impulse / self.mass;
-        self.spin += self.inverse_inertia * (x - self.centre).cross(impulse);
+        self.kick_shared(1.0, x - self.centre, impulse);
     }
 
     /// `1/k`: the effective inverse mass (1/kg) at `x` (m) along `n`.

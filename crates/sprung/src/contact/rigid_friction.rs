@@ -24,16 +24,16 @@
 //! push would within the step: an impulse that may take back at most the
 //! forces' own push over the step (`f_n dt`), so that the touch never
 //! pulls (pushing only, it still crept at 0.3 mm/s: the back edge must
-//! bear less of the weight, as on a real slope). Touches all of whose particles are one rigid body's are left
-//! out: a body does not rub on itself.
+//! bear less of the weight, as on a real slope). Touches all of whose
+//! particles are one rigid body's are left out: a body does not rub on
+//! itself.
 //!
-//! Afterwards each
-//! body's particles take the change of its motion, `Δv = ΔV + Δω × (x -
-//! c)`, which the projection then keeps, and move by the change of its
-//! drift times the step, as if the impulses had acted from its start (not
-//! turned, as at the colliders: a turn about the centre would drive other
-//! corners into the surface). The particles of other bodies in these
-//! touches take their impulses as in [`super::friction`].
+//! Afterwards each body's particles take the change of its motion, `Δv =
+//! ΔV + Δω × (x - c)`, which the projection then keeps, and move by the
+//! change of its drift times the step, as if the impulses had acted from
+//! its start (not turned, as at the colliders: a turn about the centre
+//! would drive other corners into the surface). The particles of other
+//! bodies in these touches take their impulses as in [`super::friction`].
 //!
 //! These touches are taken on one thread, after the others, in their
 //! order: the same bits whatever the number of threads.
