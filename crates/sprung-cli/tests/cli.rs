@@ -752,14 +752,15 @@ fn threads_given_before_and_after_the_command_is_refused() {
 }
 
 #[test]
-fn the_readmes_scene_block_loads_and_runs_as_written() {
-    // The README's scene format is one block of every key, which users
-    // copy. Claim: as written (its horse mesh beside it), `check` loads it
-    // and `run` steps it for 0.05 s with exit 0 (it blew up at step 2 when
-    // all its bodies were made on top of each other, under the floor).
-    let readme = include_str!("../../../README.md");
-    let start = readme.find("```toml\n").expect("a toml block") + "```toml\n".len();
-    let block = &readme[start..start + readme[start..].find("```").expect("its end")];
+fn the_scene_formats_key_block_loads_and_runs_as_written() {
+    // docs/scenes.md gives the scene format as one block of every key (its
+    // first toml block), which users copy. Claim: as written (its horse
+    // mesh beside it), `check` loads it and `run` steps it for 0.05 s with
+    // exit 0 (it blew up at step 2 when all its bodies were made on top of
+    // each other, under the floor).
+    let page = include_str!("../../../docs/scenes.md");
+    let start = page.find("```toml\n").expect("a toml block") + "```toml\n".len();
+    let block = &page[start..start + page[start..].find("```").expect("its end")];
     assert!(block.contains("[[collider]]") && block.contains("mesh = \"meshes/horse.obj\""));
     let dir = tempfile::tempdir().expect("tempdir");
     std::fs::create_dir(dir.path().join("meshes")).expect("meshes folder");

@@ -1,6 +1,5 @@
 //! Bad scene files: each is refused before the run with a message naming
-//! the file, the line and the key (README.md "Scene files", issue "bad
-//! input"). The line numbers asserted are those of the offending key in the
+//! the file, the line and the key (docs/scenes.md, issue "bad input"). The line numbers asserted are those of the offending key in the
 //! texts below.
 
 use std::path::Path;
