@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Regenerate the README's gallery (docs/gallery/) with the project's own
-# commands: an animated GIF of each demo, drawn by `sprung render`, and the
-# energy of the oscillator under every integrator, drawn by `sprung plot`.
+# Regenerate the gallery of docs/guide.md (docs/gallery/) with the
+# project's own commands: an animated GIF of each demo, drawn by
+# `sprung render`, and the energy of the oscillator under every
+# integrator, drawn by `sprung plot`.
 # Run from anywhere: scripts/gallery.sh (takes a few minutes, release build).
 set -euo pipefail
 cd "$(dirname "$0")/.."

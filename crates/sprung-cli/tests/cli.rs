@@ -1,4 +1,4 @@
-//! The command-line contract of README.md ("Usage"), driven through the real binary:
+//! The command-line contract of docs/guide.md, driven through the real binary:
 //! outputs, exit codes, blow-up handling and bad input.
 
 mod common;
