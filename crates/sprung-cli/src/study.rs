@@ -145,16 +145,9 @@ fn stability(args: &StabilityArgs) -> Result<(), CliError> {
         .unwrap_or((scene.steps as Real * scene.dt).min(DEFAULT_MAX_TIME));
     let estimate = world.stable_time_step();
     let energies = world.energies();
-    let scale = [
-        energies.kinetic,
-        energies.spring,
-        energies.gravity,
-        energies.gas,
-        energies.contact,
-    ]
-    .iter()
-    .map(|e| e.abs())
-    .sum::<Real>();
+    let scale = energies
+        .terms()
+        .fold(energies.kinetic.abs(), |sum, (_, e)| sum + e.abs());
     let setting = Setting {
         path: args.scene.clone(),
         particles: world.particles.len(),

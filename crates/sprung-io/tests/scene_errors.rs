@@ -956,7 +956,14 @@ softening = 0.01
             .largest_error(&scene.world.particles.position)
             < 1e-8
     );
-    assert!(scene.world.energies().gravitation < 0.0);
+    assert!(
+        scene
+            .world
+            .energies()
+            .get("gravitation")
+            .expect("a standard term")
+            < 0.0
+    );
 }
 
 #[test]

@@ -46,13 +46,7 @@ pub fn draw(app: &App, viewport: Rect) {
         palette::TEXT,
     );
     let e = world.energies();
-    for (name, value) in [
-        ("kinetic", e.kinetic),
-        ("spring", e.spring),
-        ("gravity", e.gravity),
-        ("gas", e.gas),
-        ("contact", e.contact),
-    ] {
+    for (name, value) in std::iter::once(("kinetic", e.kinetic)).chain(e.terms()) {
         if value != 0.0 {
             row(name, number(value, "J"), palette::DIM);
         }

@@ -27,8 +27,8 @@ use crate::constrain::{
 use crate::contact::{BodyContacts, Contacts, RigidParts, TooManyPairs};
 use crate::error::{BlowUpReason, BuildError, StepError};
 use crate::forces::{
-    self, AirDrag, ForceContext, ForceList, GasPressure, Gravity, JacobianScale, Jacobians,
-    Linearization, PenaltyContacts, SpringForce,
+    self, AirDrag, ForceContext, ForceList, GasPressure, Gravity, ImpulseContext, JacobianScale,
+    Jacobians, Linearization, PenaltyContacts, SpringForce, StiffnessBounds,
 };
 use crate::integrate::{Derivative, Integrator, IntegratorKind, SolverSettings, State, StepReport};
 use crate::measure::{self, Energies};
@@ -155,6 +155,8 @@ pub struct World {
     steps: u64,
     last_report: StepReport,
     solver_stats: SolverStats,
+    /// The stable-step bounds of automatic substeps (kept for their buffers).
+    stiffness_bounds: StiffnessBounds,
 }
 
 impl World {
@@ -193,15 +195,14 @@ impl World {
             steps: 0,
             last_report: StepReport::default(),
             solver_stats: SolverStats::default(),
+            stiffness_bounds: StiffnessBounds::default(),
         }
     }
 
-    /// Acceleration of gravity (m/s²): that of the [`Gravity`] force in the
-    /// list, zero without one.
+    /// Acceleration of gravity (m/s²): the sum of the uniform accelerations
+    /// of the forces in the list ([`Gravity`]'s), zero without one.
     pub fn gravity(&self) -> Vec3 {
-        self.forces
-            .get::<Gravity>()
-            .map_or(Vec3::ZERO, |g| g.acceleration)
+        self.forces.uniform_acceleration()
     }
 
     /// Set the acceleration of gravity (m/s²).
@@ -458,17 +459,7 @@ impl World {
             report = report.then(self.integrate(h)?);
             self.advance_time(h);
             self.collide();
-            if let Some(contact_force) = self.forces.get::<BodyContacts>() {
-                let rigid = RigidParts::new(&self.rigid.list, &self.particles.mass);
-                self.contacts.apply_friction(
-                    contact_force.pieces(),
-                    &mut self.particles.position,
-                    &mut self.particles.velocity,
-                    &self.particles.inverse_mass,
-                    &rigid,
-                    h,
-                );
-            }
+            self.friction(h);
             self.constrain(h);
         }
         if substeps > 1 {
@@ -536,6 +527,21 @@ impl World {
             })
     }
 
+    /// The friction stage: every force's impulses at the end of a (sub)step
+    /// of `dt` (s) (the body contacts' Coulomb friction).
+    fn friction(&mut self, dt: Real) {
+        let mut context = ImpulseContext {
+            time: self.time,
+            dt,
+            position: &mut self.particles.position,
+            velocity: &mut self.particles.velocity,
+            inverse_mass: &self.particles.inverse_mass,
+            contacts: &self.contacts,
+            rigid: RigidParts::new(&self.rigid.list, &self.particles.mass),
+        };
+        self.forces.apply_impulses(&mut context);
+    }
+
     /// The constrain stage: rods, then rigid bodies, over a step of `dt` (s).
     fn constrain(&mut self, dt: Real) {
         let Particles {
@@ -559,10 +565,7 @@ impl World {
         // Below this approach speed a rigid body's contact rests rather
         // than bounces: two steps of gravity, and at least RESTING_SPEED
         // (a body rocking on a face would otherwise bounce for ever).
-        let gravity = self
-            .forces
-            .get::<Gravity>()
-            .map_or(0.0, |g| g.acceleration.length());
+        let gravity = self.forces.uniform_acceleration().length();
         let rest_speed = (2.0 * dt * gravity).max(RESTING_SPEED);
         self.rigid.project(
             position,
@@ -607,8 +610,8 @@ impl World {
     /// How many substeps a step of `dt` (s) takes: `settings.substeps`, or
     /// with [`Substeps::Auto`] and an explicit fixed-step integrator, as many
     /// as keep each below 0.9 of the stable step (springs, colliders and
-    /// this step's contacts; see [`measure::stable_time_step`]).
-    fn substeps(&self, dt: Real) -> u32 {
+    /// this step's contacts; see [`World::stable_time_step`]).
+    fn substeps(&mut self, dt: Real) -> u32 {
         match self.settings.substeps {
             Substeps::Fixed(n) => n,
             Substeps::Auto => {
@@ -616,8 +619,14 @@ impl World {
                 if kind.is_implicit() || kind == IntegratorKind::Rk45 {
                     return 1;
                 }
-                // The step's own pairs: its detect stage has run.
-                let stable = 0.9 * self.stable_time_step();
+                // The step's own pairs: its detect stage has run. The
+                // bounds' buffers are the world's: no allocation a step.
+                let mut bounds = std::mem::take(&mut self.stiffness_bounds);
+                bounds.reset(self.particles.len());
+                self.forces
+                    .add_stiffness(&self.force_context(), &mut bounds);
+                let stable = 0.9 * bounds.stable_time_step();
+                self.stiffness_bounds = bounds;
                 (dt / stable).ceil().clamp(1.0, MAX_SUBSTEPS as Real) as u32
             }
         }
@@ -913,16 +922,21 @@ impl World {
     }
 
     /// Every energy term at the current state (J): kinetic, and the
-    /// potential of every force in the list.
+    /// potential of every force in the list under its name
+    /// ([`World::energy_names`]).
     pub fn energies(&self) -> Energies {
-        let mut energies = Energies {
-            kinetic: measure::kinetic_energy(&self.particles),
-            ..Energies::default()
-        };
+        let mut energies = Energies::new(measure::kinetic_energy(&self.particles));
         let contacts = self.contacts_now();
         self.forces
             .add_energy(&self.context_with(&contacts), &mut energies);
         energies
+    }
+
+    /// The names of the potential terms of [`World::energies`], in order:
+    /// the standard ones ([`measure::STANDARD_TERMS`]), then those the
+    /// forces in the list give.
+    pub fn energy_names(&self) -> Vec<&'static str> {
+        self.forces.energy_names()
     }
 
     /// Number of contact pairs between bodies closer than the contact
@@ -1028,8 +1042,9 @@ impl World {
         Ok(contacts)
     }
 
-    /// A stable time step for the explicit methods (s); see
-    /// [`measure::stable_time_step`]. With the candidate contact pairs of
+    /// A stable time step for the explicit methods (s): every force's
+    /// bounds ([`crate::forces::Force::add_stiffness`],
+    /// [`StiffnessBounds::stable_time_step`]). With the candidate contact pairs of
     /// the last step (none before the first: see
     /// [`World::stable_time_step_now`]).
     pub fn stable_time_step(&self) -> Real {
@@ -1046,17 +1061,10 @@ impl World {
 
     /// [`World::stable_time_step`] with the candidate pairs of `contacts`.
     fn stable_time_step_with(&self, contacts: &Contacts) -> Real {
-        let mut rates = vec![0.0; self.particles.len()];
-        for force in self.forces.iter() {
-            force.add_damping_rates(&self.particles.inverse_mass, &mut rates);
-        }
-        measure::stable_time_step(
-            &self.particles,
-            &self.springs,
-            &self.colliders,
-            contacts,
-            rates,
-        )
+        let mut bounds = StiffnessBounds::new(self.particles.len());
+        self.forces
+            .add_stiffness(&self.context_with(contacts), &mut bounds);
+        bounds.stable_time_step()
     }
 }
 
@@ -1166,7 +1174,10 @@ impl Derivative for Dynamics<'_> {
     }
 
     fn springs(&self) -> &Springs {
-        self.frame.springs
+        static NO_SPRINGS: std::sync::LazyLock<Springs> =
+            std::sync::LazyLock::new(Springs::default);
+        let context = self.frame.context(0.0, &[], &[]);
+        self.forces.springs(&context).unwrap_or(&NO_SPRINGS)
     }
 
     fn force(&mut self, time: Real, position: &[Vec3], velocity: &[Vec3], force: &mut [Vec3]) {

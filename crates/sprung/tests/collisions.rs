@@ -184,7 +184,7 @@ fn a_particle_rests_on_a_penalty_floor_at_depth_m_g_over_k() {
             kind.name(),
             depth,
             expected,
-            world.energies().contact,
+            world.energies().get("contact").expect("a standard term"),
             stiffness,
         );
     }

@@ -470,14 +470,14 @@ fn bodies_that_start_touching_count_their_contact_before_the_first_step() {
     for p in &mut world.particles.position[162..324] {
         p.x += shift;
     }
-    let before = world.energies().contact;
+    let before = world.energies().get("contact").expect("a standard term");
     assert!(
         before > 0.0,
         "contact energy {before} before the first step"
     );
     assert!(world.active_contacts() > 0);
     world.step(1e-9).expect("a step");
-    let after = world.energies().contact;
+    let after = world.energies().get("contact").expect("a standard term");
     assert!(
         (after - before).abs() <= 1e-6 * before,
         "{before} J before the first step, {after} J after it"

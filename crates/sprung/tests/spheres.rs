@@ -334,7 +334,7 @@ fn a_particle_rests_on_top_of_a_penalty_sphere_at_depth_m_g_over_k() {
             kind.name(),
             depth,
             expected,
-            world.energies().contact,
+            world.energies().get("contact").expect("a standard term"),
             stiffness,
         );
     }
@@ -433,7 +433,10 @@ fn penalty_sphere_contact_energy_is_half_k_depth_squared() {
         vec![],
         collider.clone(),
     );
-    assert_eq!(world.energies().contact, energy);
+    assert_eq!(
+        world.energies().get("contact").expect("a standard term"),
+        energy
+    );
 
     // A moving sphere: at time t the energy is measured against the centre
     // translated by the path's offset.

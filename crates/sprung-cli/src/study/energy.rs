@@ -51,7 +51,9 @@ impl EnergyWatch {
         if !rise.is_finite() {
             return Some(format!("energy not finite at step {step}"));
         }
-        let change = (now.gravity - self.start.gravity).abs() + (now.gas - self.start.gas).abs();
+        let term = |e: &Energies, name| e.get(name).unwrap_or(0.0);
+        let change = (term(&now, "gravity") - term(&self.start, "gravity")).abs()
+            + (term(&now, "gas") - term(&self.start, "gas")).abs();
         self.exchange = self.exchange.max(change);
         if rise > self.worst.0 {
             self.worst = (rise, step);

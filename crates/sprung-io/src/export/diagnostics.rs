@@ -16,6 +16,8 @@ use super::AtomicFile;
 pub struct Diagnostics {
     file: AtomicFile,
     probes: Vec<usize>,
+    /// The potential terms of the energy, as the header lists them.
+    energy_names: Vec<&'static str>,
     rows: usize,
     /// The `time` of every row (s), for the frames' series file.
     times: Vec<f64>,
@@ -30,6 +32,7 @@ impl Diagnostics {
         Ok(Diagnostics {
             file,
             probes: probes.to_vec(),
+            energy_names: world.energy_names(),
             rows: 0,
             times: Vec::new(),
         })
@@ -130,22 +133,27 @@ impl Diagnostics {
         let optional = |value: Option<f64>| value.map(|v| Real(v).to_string()).unwrap_or_default();
         let report = world.last_step_report();
         let mut row = format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{}",
             world.steps(),
             Real(world.time()),
-            Real(e.kinetic),
-            Real(e.spring),
-            Real(e.gravity),
-            Real(e.gas),
-            Real(e.total()),
-            Real(e.contact),
-            Real(e.gravitation),
+            Real(e.kinetic)
+        );
+        for (k, name) in self.energy_names.iter().enumerate() {
+            if k == TERMS_BEFORE_TOTAL {
+                row.push_str(&format!(",{}", Real(e.total())));
+            }
+            // A term the world no longer has (a force taken out of the
+            // list mid-run) is zero.
+            row.push_str(&format!(",{}", Real(e.get(name).unwrap_or(0.0))));
+        }
+        row.push_str(&format!(
+            ",{},{},{},{},{}",
             world.active_contacts(),
             report.iterations.map(|i| i.to_string()).unwrap_or_default(),
             optional(report.residual),
             report.substeps.map(|n| n.to_string()).unwrap_or_default(),
             optional(report.step_size),
-        );
+        ));
         for index in 0..world.bodies.len() {
             let c = world.centroid(index).unwrap_or_default();
             let (volume, pressure) = (
@@ -210,11 +218,24 @@ impl std::fmt::Display for Real {
     }
 }
 
-/// The header row: the fixed columns, five per body, three per probe.
+/// How many potential terms come before the `total` column: the
+/// textbook's three (spring, gravity, gas), as the first tables had them;
+/// the later terms (contact, gravitation, and those of a user's forces)
+/// follow it.
+const TERMS_BEFORE_TOTAL: usize = 3;
+
+/// The header row: `step`, `time`, the energy's terms (kinetic, then the
+/// world's potential terms with `total` after the first three), the step's
+/// contacts and solver columns, five per body, three per probe.
 fn header(world: &World, probes: &[usize]) -> String {
-    let mut header = String::from(
-        "step,time,kinetic,spring,gravity,gas,total,contact,gravitation,contacts,solver_iterations,solver_residual,substeps,step_size",
-    );
+    let mut header = String::from("step,time,kinetic");
+    for (k, name) in world.energy_names().iter().enumerate() {
+        if k == TERMS_BEFORE_TOTAL {
+            header.push_str(",total");
+        }
+        header.push_str(&format!(",{name}"));
+    }
+    header.push_str(",contacts,solver_iterations,solver_residual,substeps,step_size");
     for body in &world.bodies {
         for column in ["volume", "pressure", "cx", "cy", "cz"] {
             header.push_str(&format!(",{}.{column}", body.name));

@@ -21,8 +21,9 @@ const PALETTE: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
-/// The energy terms and their colours; `total` comes last, in black.
-const ENERGY_TERMS: [(&str, RGBColor); 6] = [
+/// The colours of the standard energy terms (other terms, of a user's
+/// forces, take the palette's); `total` comes last, in black.
+const ENERGY_COLOURS: [(&str, RGBColor); 6] = [
     ("kinetic", RGBColor(214, 39, 40)),
     ("spring", RGBColor(31, 119, 180)),
     ("gravity", RGBColor(44, 160, 44)),
@@ -59,19 +60,26 @@ fn series(
     }
 }
 
-/// Each energy term (J) that is not zero throughout, and the total.
+/// Each energy term (J) of the table ([`DiagnosticsTable::energy_terms`])
+/// that is not zero throughout, and the total.
 pub(crate) fn energy(table: &DiagnosticsTable, run: &str) -> Figure {
     let mut lines = Vec::new();
     let mut zero = Vec::new();
-    for (term, color) in ENERGY_TERMS {
-        if table.column(term).is_none() {
+    let mut others = 0;
+    for term in table.energy_terms() {
+        if table.is_zero(&term) {
+            zero.push(term);
             continue;
         }
-        if table.is_zero(term) {
-            zero.push(term);
-        } else {
-            lines.push(series(table, term, term.into(), color, LINE));
-        }
+        let known = ENERGY_COLOURS.iter().find(|(name, _)| *name == term);
+        let color = known.map_or_else(
+            || {
+                others += 1;
+                colour(others + 5)
+            },
+            |&(_, color)| color,
+        );
+        lines.push(series(table, &term, term.clone(), color, LINE));
     }
     lines.push(series(
         table,
@@ -195,12 +203,12 @@ fn probe_label(prefix: &str) -> String {
     }
 }
 
-/// The unit of a diagnostics column, from its name ("" when unknown).
+/// The unit of a diagnostics column that is not an energy term
+/// ([`DiagnosticsTable::is_energy`]), from its name ("" when unknown).
 pub(crate) fn unit(column: &str, dimension: Dimension) -> &'static str {
     let suffix = column.rsplit_once('.').map_or(column, |(_, s)| s);
     match (suffix, dimension) {
         ("time", _) => "s",
-        ("kinetic" | "spring" | "gravity" | "gas" | "total" | "contact" | "gravitation", _) => "J",
         ("volume", Dimension::Two) => "m²",
         ("volume", Dimension::Three) => "m³",
         ("pressure", Dimension::Two) => "N/m",
@@ -231,7 +239,11 @@ pub(crate) fn compare(
     } else {
         column.to_string()
     };
-    let unit = unit(column, dimension);
+    let unit = if runs.iter().any(|(_, t)| t.is_energy(column)) {
+        "J"
+    } else {
+        unit(column, dimension)
+    };
     let mut values = Vec::new();
     let mut changes = Vec::new();
     for (index, (label, table)) in runs.iter().enumerate() {

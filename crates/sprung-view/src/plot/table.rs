@@ -181,6 +181,24 @@ impl DiagnosticsTable {
             .is_some_and(|c| c.iter().any(Option::is_some))
     }
 
+    /// The energy's terms, as the run's world listed them: the columns
+    /// from `kinetic` up to `contacts` (or up to the first column of a body
+    /// or probe, in tables from before that column), `total` left out.
+    pub fn energy_terms(&self) -> Vec<String> {
+        self.names
+            .iter()
+            .skip(2)
+            .take_while(|name| *name != "contacts" && !name.contains('.'))
+            .filter(|name| *name != "total")
+            .cloned()
+            .collect()
+    }
+
+    /// Whether `name` is a column of the energy (`total` included), in J.
+    pub fn is_energy(&self, name: &str) -> bool {
+        name == "total" || self.energy_terms().iter().any(|term| term == name)
+    }
+
     fn prefixes(&self, suffixes: &[&str]) -> Vec<String> {
         let mut found: Vec<String> = Vec::new();
         for name in &self.names {

@@ -2,8 +2,10 @@
 //! world's force list (see the module documentation of [`super`]).
 
 use super::pairs::{Touch, Touches, PREFETCH_TOUCHES};
-use crate::forces::{Force, ForceContext, JacobianScale, Linearization};
-use crate::measure::Energies;
+use super::{friction, rigid_friction};
+use crate::forces::{
+    Force, ForceContext, ImpulseContext, JacobianScale, Linearization, StiffnessBounds,
+};
 use crate::parallel;
 use crate::{Real, Vec3};
 use rayon::prelude::*;
@@ -20,7 +22,7 @@ use rayon::prelude::*;
 /// between bodies either. Jacobians: `-k n nᵀ` and `-c n nᵀ` on the
 /// relative motion of pairs that push (the turning of the normal left out:
 /// [`Linearization::Approximate`]).
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default)]
 pub struct BodyContacts {
     /// The pairs that pushed at the last linearisation.
     active: Vec<Active>,
@@ -31,6 +33,8 @@ pub struct BodyContacts {
     pushes: Vec<Vec<Pushed>>,
     /// How many touches of the last evaluation span how many particles.
     spans: Spans,
+    /// The friction stage's buffers for the touches with rigid bodies.
+    rigid_friction: rigid_friction::Scratch,
 }
 
 /// A count of touches per bit length of their spans (highest particle less
@@ -66,12 +70,6 @@ impl BodyContacts {
     /// Body contacts with nothing linearised yet.
     pub fn new() -> Self {
         BodyContacts::default()
-    }
-
-    /// The touches of the last evaluation piece by piece, how each pushed
-    /// (piece by piece as well), and the count of their spans.
-    pub(crate) fn pieces(&self) -> (&[Vec<Touch>], &[Vec<Pushed>], &Spans) {
-        (self.touches.pieces(), &self.pushes, &self.spans)
     }
 }
 
@@ -170,14 +168,51 @@ impl Force for BodyContacts {
         }
     }
 
-    fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
+    /// For each candidate pair that can touch in the step, its default
+    /// coefficients `m (v_ref / h)²` and `m v_ref / h` for its effective
+    /// mass `m = 1 / Σ w_i² / m_i` add at most `2 (v_ref / h)²` and `2 v_ref
+    /// / h` to each moving member's row of the mass-scaled matrices (whatever
+    /// the masses): its block is `k u uᵀ` with `u_i = w_i / √m_i`, whose row
+    /// `i` sums to `k |u_i| Σ |u_j| ≤ k |u_i| √(4 Σ u_j²)`, and `|u_i| ≤
+    /// √(Σ u_j²) = 1 / √m`. A given stiffness `k` (or damping) adds `2 k /
+    /// m_i` (the weights sum to at most 2). A particle's pairs with the
+    /// elements of one body count it once, as it touches only the closest.
+    fn add_stiffness(&self, context: &ForceContext, bounds: &mut StiffnessBounds) {
+        let settings = &context.contacts.settings;
+        let rate = super::REFERENCE_SPEED / settings.thickness;
+        context.contacts.pairs.for_each_member(|members| {
+            for i in members {
+                let w = context.inverse_mass[i as usize];
+                if w == 0.0 {
+                    continue;
+                }
+                bounds.stiffness[i as usize] += settings
+                    .stiffness
+                    .map_or(2.0 * rate * rate, |k| 2.0 * k * w);
+                bounds.damping[i as usize] += settings.damping.map_or(2.0 * rate, |c| 2.0 * c * w);
+            }
+        });
+    }
+
+    fn energy_name(&self) -> Option<&'static str> {
+        Some("contact")
+    }
+
+    fn add_potential_energy(&self, context: &ForceContext, energy: &mut Real) {
         let contacts = context.contacts;
         contacts
             .pairs
             .for_each_touch(context.position, contacts.settings.thickness, |touch| {
                 let (k, _) = coefficients(context, &touch);
-                energies.contact += 0.5 * k * touch.depth * touch.depth;
+                *energy += 0.5 * k * touch.depth * touch.depth;
             });
+    }
+
+    /// Coulomb friction on the touches of the last evaluation
+    /// ([`super::friction`]).
+    fn apply_impulses(&mut self, context: &mut ImpulseContext) {
+        let pieces = (self.touches.pieces(), &self.pushes[..], &self.spans);
+        friction::apply_friction(pieces, context, &mut self.rigid_friction);
     }
 
     fn linearize(&mut self, context: &ForceContext) -> Linearization {

@@ -51,8 +51,8 @@
 
 use super::force::{Pushed, Spans};
 use super::pairs::Touch;
-use super::rigid_friction::RigidParts;
-use super::Contacts;
+use super::rigid_friction;
+use crate::forces::ImpulseContext;
 use crate::parallel;
 use crate::{Real, Vec3};
 
@@ -60,92 +60,98 @@ use crate::{Real, Vec3};
 /// touches by: narrower ones would leave the threads too little each.
 pub const MIN_GROUP: u64 = 256;
 
-impl Contacts {
-    /// Apply friction impulses to `velocity` (m/s) for the touches of
-    /// `touches` (piece by piece), each with the normal force (N) it
-    /// pushed with over a (sub)step of `dt` (s) and its particles' extent
-    /// in `pushed` (piece by piece too), moving `position` (m) by the
-    /// velocity change times `dt`; `spans` counts the touches' spans. The
-    /// touches with particles of the `rigid` bodies act on their motion,
-    /// last ([`super::rigid_friction`]).
-    pub(crate) fn apply_friction(
-        &mut self,
-        (touches, pushed, spans): (&[Vec<Touch>], &[Vec<Pushed>], &Spans),
-        position: &mut [Vec3],
-        velocity: &mut [Vec3],
-        inverse_mass: &[Real],
-        rigid: &RigidParts<'_>,
-        dt: Real,
-    ) {
-        let friction = self.settings.friction;
-        if friction == 0.0 || self.pairs.is_empty() {
-            return;
-        }
-        let total: usize = spans.iter().sum();
-        let mut fewer = 0;
-        let mut width = 1_u64 << 32;
-        for (bits, count) in spans.iter().enumerate() {
-            fewer += count;
-            if 1 << bits >= MIN_GROUP && 8 * fewer >= 7 * total {
-                width = 1 << bits;
-                break;
-            }
-        }
-        let each = |f: &mut dyn FnMut(&Touch, &Pushed)| {
-            for (touches, pushed) in touches.iter().zip(pushed) {
-                for (touch, pushed) in touches.iter().zip(pushed) {
-                    f(touch, pushed);
-                }
-            }
-        };
-        let slide = |touch: &Touch, push: Real, first: usize, x: &mut [Vec3], v: &mut [Vec3]| {
-            slide(touch, push, (first, x, v), inverse_mass, friction, dt);
-        };
-        let grouped = |span: u32| u64::from(span) < width;
-        for parity in [0, 1] {
-            let offset = usize::try_from(parity * width).unwrap_or(usize::MAX);
-            let align = usize::try_from(2 * width).unwrap_or(usize::MAX);
-            let slices = (&mut *position, &mut *velocity);
-            let group_pass = |first: usize, (x, v): (&mut [Vec3], &mut [Vec3])| {
-                // Whether this pass, on the share `first..end`, takes a
-                // touch.
-                let end = first + x.len();
-                let takes = |touch: &Touch, pushed: &Pushed| {
-                    let group = u64::from(pushed.lowest) / width;
-                    grouped(pushed.span)
-                        && group % 2 == parity
-                        && (first..end).contains(&(pushed.lowest as usize))
-                        && !rigid.takes(touch)
-                };
-                each(&mut |touch, pushed| {
-                    if takes(touch, pushed) {
-                        slide(touch, pushed.push, first, x, v);
-                    }
-                });
-            };
-            // Few touches: one share on this thread (the same order, so
-            // the same bits), rather than waking the threads for a pass
-            // shorter than their waking.
-            if total <= parallel::CHUNK {
-                group_pass(0, slices);
-            } else {
-                parallel::for_each_aligned_share(slices, align, offset, group_pass);
-            }
-        }
-        let found = &mut self.rigid_friction.found;
-        found.clear();
-        each(&mut |touch, pushed| {
-            if rigid.takes(touch) {
-                if !rigid.within_one(touch) {
-                    found.push((*touch, pushed.push));
-                }
-            } else if !grouped(pushed.span) {
-                slide(touch, pushed.push, 0, position, velocity);
-            }
-        });
-        let scratch = &mut self.rigid_friction;
-        rigid.apply_friction(scratch, position, velocity, inverse_mass, friction, dt);
+/// The friction stage of the touches of the contact force's last
+/// evaluation in the (sub)step ([`BodyContacts`]), with the state and
+/// world of `context`: apply friction impulses to the velocities for the
+/// touches of `touches` (piece by piece), each with the normal force (N)
+/// it pushed with and its particles' extent in `pushed` (piece by piece
+/// too), moving the positions by the velocity change times the step;
+/// `spans` counts the touches' spans. The touches with particles of the
+/// rigid bodies act on their motion, last ([`super::rigid_friction`]),
+/// with the buffers of `scratch`.
+pub(crate) fn apply_friction(
+    (touches, pushed, spans): (&[Vec<Touch>], &[Vec<Pushed>], &Spans),
+    context: &mut ImpulseContext,
+    scratch: &mut rigid_friction::Scratch,
+) {
+    let ImpulseContext {
+        position,
+        velocity,
+        inverse_mass,
+        contacts,
+        rigid,
+        dt,
+        ..
+    } = context;
+    let (position, velocity, inverse_mass, dt) =
+        (&mut **position, &mut **velocity, *inverse_mass, *dt);
+    let friction = contacts.settings.friction;
+    if friction == 0.0 || contacts.pairs.is_empty() {
+        return;
     }
+    let total: usize = spans.iter().sum();
+    let mut fewer = 0;
+    let mut width = 1_u64 << 32;
+    for (bits, count) in spans.iter().enumerate() {
+        fewer += count;
+        if 1 << bits >= MIN_GROUP && 8 * fewer >= 7 * total {
+            width = 1 << bits;
+            break;
+        }
+    }
+    let each = |f: &mut dyn FnMut(&Touch, &Pushed)| {
+        for (touches, pushed) in touches.iter().zip(pushed) {
+            for (touch, pushed) in touches.iter().zip(pushed) {
+                f(touch, pushed);
+            }
+        }
+    };
+    let slide = |touch: &Touch, push: Real, first: usize, x: &mut [Vec3], v: &mut [Vec3]| {
+        slide(touch, push, (first, x, v), inverse_mass, friction, dt);
+    };
+    let grouped = |span: u32| u64::from(span) < width;
+    for parity in [0, 1] {
+        let offset = usize::try_from(parity * width).unwrap_or(usize::MAX);
+        let align = usize::try_from(2 * width).unwrap_or(usize::MAX);
+        let slices = (&mut *position, &mut *velocity);
+        let group_pass = |first: usize, (x, v): (&mut [Vec3], &mut [Vec3])| {
+            // Whether this pass, on the share `first..end`, takes a
+            // touch.
+            let end = first + x.len();
+            let takes = |touch: &Touch, pushed: &Pushed| {
+                let group = u64::from(pushed.lowest) / width;
+                grouped(pushed.span)
+                    && group % 2 == parity
+                    && (first..end).contains(&(pushed.lowest as usize))
+                    && !rigid.takes(touch)
+            };
+            each(&mut |touch, pushed| {
+                if takes(touch, pushed) {
+                    slide(touch, pushed.push, first, x, v);
+                }
+            });
+        };
+        // Few touches: one share on this thread (the same order, so
+        // the same bits), rather than waking the threads for a pass
+        // shorter than their waking.
+        if total <= parallel::CHUNK {
+            group_pass(0, slices);
+        } else {
+            parallel::for_each_aligned_share(slices, align, offset, group_pass);
+        }
+    }
+    let found = &mut scratch.found;
+    found.clear();
+    each(&mut |touch, pushed| {
+        if rigid.takes(touch) {
+            if !rigid.within_one(touch) {
+                found.push((*touch, pushed.push));
+            }
+        } else if !grouped(pushed.span) {
+            slide(touch, pushed.push, 0, position, velocity);
+        }
+    });
+    rigid.apply_friction(scratch, position, velocity, inverse_mass, friction, dt);
 }
 
 /// The friction impulse of one touch, which pushed with `push` (N), on the

@@ -301,5 +301,4 @@ pub struct Contacts {
     scratch: detect::Scratch,
     found: detect::Found,
     links: links::Links,
-    rigid_friction: rigid_friction::Scratch,
 }

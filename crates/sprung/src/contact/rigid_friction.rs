@@ -46,6 +46,7 @@ use crate::{Real, Vec3};
 pub const PASSES: usize = 16;
 
 /// The rigid bodies' particles, to find a particle's body.
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct RigidParts<'a> {
     /// The rigid bodies.
     bodies: &'a [RigidBody],

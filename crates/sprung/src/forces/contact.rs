@@ -8,9 +8,8 @@
 //! (which would make the matrix indefinite inside) and the friction force
 //! are left out: [`Linearization::Approximate`].
 
-use super::{Force, ForceContext, JacobianScale, Linearization};
-use crate::collide::{self, ContactResponse};
-use crate::measure::Energies;
+use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
+use crate::collide::{self, Collider, ContactResponse};
 use crate::{Real, Vec3};
 
 /// The penalty forces of the world's colliders (reads
@@ -62,8 +61,26 @@ impl Force for PenaltyContacts {
         }
     }
 
-    fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
-        energies.contact += context
+    /// Every collider's penalty stiffness `k_c` over each particle's mass,
+    /// on every particle (any may reach a collider within the step); the
+    /// penalty damping is left out.
+    fn add_stiffness(&self, context: &ForceContext, bounds: &mut StiffnessBounds) {
+        let penalty: Real = context
+            .colliders
+            .iter()
+            .map(Collider::penalty_stiffness)
+            .sum();
+        for (bound, w) in bounds.stiffness.iter_mut().zip(context.inverse_mass) {
+            *bound += penalty * w;
+        }
+    }
+
+    fn energy_name(&self) -> Option<&'static str> {
+        Some("contact")
+    }
+
+    fn add_potential_energy(&self, context: &ForceContext, energy: &mut Real) {
+        *energy += context
             .colliders
             .iter()
             .map(|c| c.contact_energy(context.time, context.position))

@@ -1,7 +1,6 @@
 //! Global air drag: `f_i -= c_air v_i` (docs/physics.md §1).
 
-use super::{Force, ForceContext, JacobianScale, Linearization};
-use crate::measure::Energies;
+use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::parallel;
 use crate::{Real, Vec3};
 
@@ -29,15 +28,19 @@ impl Force for AirDrag {
         });
     }
 
-    /// `c_air / m` on every particle.
-    fn add_damping_rates(&self, inverse_mass: &[Real], rate: &mut [Real]) {
-        for (rate, w) in rate.iter_mut().zip(inverse_mass) {
+    /// `c_air / m` on every particle's damping.
+    fn add_stiffness(&self, context: &ForceContext, bounds: &mut StiffnessBounds) {
+        for (rate, w) in bounds.damping.iter_mut().zip(context.inverse_mass) {
             *rate += self.coefficient * w;
         }
     }
 
     /// Dissipative: no potential energy.
-    fn add_energy(&self, _context: &ForceContext, _energies: &mut Energies) {}
+    fn energy_name(&self) -> Option<&'static str> {
+        None
+    }
+
+    fn add_potential_energy(&self, _: &ForceContext, _: &mut Real) {}
 
     /// `∂f/∂x = 0`, `∂f/∂v = -c_air I`, exactly.
     fn linearize(&mut self, _context: &ForceContext) -> Linearization {

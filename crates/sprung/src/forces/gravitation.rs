@@ -11,9 +11,8 @@
 //! implicit solvers it acts with its value at the start of the step
 //! ([`Linearization::Explicit`]).
 
-use super::{Force, ForceContext, JacobianScale, Linearization};
+use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::error::BuildError;
-use crate::measure::Energies;
 use crate::parallel;
 use crate::{Real, Vec3};
 
@@ -161,7 +160,16 @@ impl Force for Gravitation {
         });
     }
 
-    fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
+    /// Not counted in the stable step: an orbit's step is set by its
+    /// period and closest approach, not by a stiffness, and the adaptive
+    /// `rk45` follows them.
+    fn add_stiffness(&self, _: &ForceContext, _: &mut StiffnessBounds) {}
+
+    fn energy_name(&self) -> Option<&'static str> {
+        Some("gravitation")
+    }
+
+    fn add_potential_energy(&self, context: &ForceContext, energy: &mut Real) {
         let (x, m) = (context.position, context.mass);
         // Before the first force evaluation the members are not built yet
         // (the energy of step 0): take them from the bodies.
@@ -178,7 +186,7 @@ impl Force for Gravitation {
             &fresh
         };
         let eps2 = self.softening * self.softening;
-        energies.gravitation -= self.constant
+        *energy -= self.constant
             * parallel::sum(members.len(), |range| {
                 range
                     .map(|a| {

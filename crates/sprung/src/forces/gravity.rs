@@ -1,7 +1,6 @@
 //! Uniform gravity: `f_i += m_i g`, energy `E_g = -Σ m_i (g · x_i)`.
 
-use super::{Force, ForceContext, JacobianScale, Linearization};
-use crate::measure::Energies;
+use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::parallel;
 use crate::{Real, Vec3};
 
@@ -39,9 +38,20 @@ impl Force for Gravity {
         true
     }
 
-    fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
+    /// A constant force: neither stiff nor damping.
+    fn add_stiffness(&self, _: &ForceContext, _: &mut StiffnessBounds) {}
+
+    fn energy_name(&self) -> Option<&'static str> {
+        Some("gravity")
+    }
+
+    fn add_potential_energy(&self, context: &ForceContext, energy: &mut Real) {
         let (x, m, g) = (context.position, context.mass, self.acceleration);
-        energies.gravity -= parallel::sum(x.len(), |range| range.map(|i| m[i] * g.dot(x[i])).sum());
+        *energy -= parallel::sum(x.len(), |range| range.map(|i| m[i] * g.dot(x[i])).sum());
+    }
+
+    fn uniform_acceleration(&self) -> Vec3 {
+        self.acceleration
     }
 
     /// Constant force: both Jacobians are exactly zero.

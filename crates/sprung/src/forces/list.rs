@@ -1,15 +1,20 @@
 //! The one list of forces of a world.
 
-use super::{Force, ForceContext, JacobianScale, Jacobians, Linearization, SpringForce};
-use crate::measure::Energies;
+use super::{
+    Force, ForceContext, ImpulseContext, JacobianScale, Jacobians, Linearization, StiffnessBounds,
+};
+use crate::measure::{Energies, STANDARD_TERMS};
 use crate::parallel;
+use crate::springs::Springs;
 use crate::Vec3;
 
 /// Every force acting in a world, in the order they are added.
 ///
-/// The explicit step ([`ForceList::accumulate`]), the energy
-/// ([`ForceList::add_energy`]) and the implicit solvers
-/// ([`ForceList::linearize`] and the Jacobian products) all walk this list.
+/// The explicit step ([`ForceList::accumulate`]), the stable-step estimate
+/// ([`ForceList::add_stiffness`]), the energy ([`ForceList::add_energy`]),
+/// the implicit solvers ([`ForceList::linearize`] and the Jacobian
+/// products) and the friction stage ([`ForceList::apply_impulses`]) all
+/// walk this list.
 /// Built-in forces are reached by type: `world.forces.get_mut::<Wind>()`;
 /// [`ForceList::set`] keeps at most one force of a type, [`ForceList::push`]
 /// adds any number.
@@ -97,19 +102,69 @@ impl ForceList {
         }
     }
 
-    /// Add every force's potential energy at `context` to `energies` (J).
-    pub fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
+    /// Add every force's share of the stable-step bounds at `context`
+    /// ([`Force::add_stiffness`]).
+    pub fn add_stiffness(&self, context: &ForceContext, bounds: &mut StiffnessBounds) {
         for f in &self.forces {
-            f.add_energy(context, energies);
+            f.add_stiffness(context, bounds);
         }
     }
 
-    /// The forces whose Jacobians `which` asks for.
-    fn linearized(&self, which: Jacobians) -> impl Iterator<Item = &dyn Force> {
+    /// Add every force's potential energy at `context` to its term of
+    /// `energies` (J).
+    pub fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
+        for f in &self.forces {
+            if let Some(name) = f.energy_name() {
+                f.add_potential_energy(context, energies.term_mut(name));
+            }
+        }
+    }
+
+    /// The names of the energy's potential terms: the standard ones
+    /// ([`STANDARD_TERMS`]), then those of the forces in the list that
+    /// give another, in order (each once).
+    pub fn energy_names(&self) -> Vec<&'static str> {
+        let mut names = STANDARD_TERMS.to_vec();
+        for name in self.forces.iter().filter_map(|f| f.energy_name()) {
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+        names
+    }
+
+    /// The springs of the first force that is a sum of springs
+    /// ([`Force::springs`]), for the solvers that stand in for them.
+    pub fn springs<'a>(&self, context: &ForceContext<'a>) -> Option<&'a Springs> {
+        self.forces.iter().find_map(|f| f.springs(context))
+    }
+
+    /// The friction stage: every force's impulses, in order
+    /// ([`Force::apply_impulses`]).
+    pub fn apply_impulses(&mut self, context: &mut ImpulseContext) {
+        for f in &mut self.forces {
+            f.apply_impulses(context);
+        }
+    }
+
+    /// The sum of the forces' uniform accelerations (m/s²,
+    /// [`Force::uniform_acceleration`]): gravity's.
+    pub fn uniform_acceleration(&self) -> Vec3 {
+        self.forces
+            .iter()
+            .fold(Vec3::ZERO, |sum, f| sum + f.uniform_acceleration())
+    }
+
+    /// The forces whose Jacobians `which` asks for at `context`.
+    fn linearized<'s>(
+        &'s self,
+        context: &'s ForceContext,
+        which: Jacobians,
+    ) -> impl Iterator<Item = &'s dyn Force> {
         self.forces
             .iter()
             .map(|f| f.as_ref())
-            .filter(move |f| asked_for(*f, which))
+            .filter(move |f| asked_for(*f, context, which))
     }
 
     /// Linearise the forces `which` asks for at `context`; the least exact
@@ -117,7 +172,7 @@ impl ForceList {
     pub fn linearize(&mut self, context: &ForceContext, which: Jacobians) -> Linearization {
         self.forces
             .iter_mut()
-            .filter(|f| asked_for(f.as_ref(), which))
+            .filter(|f| asked_for(f.as_ref(), context, which))
             .map(|f| f.linearize(context))
             .max()
             .unwrap_or(Linearization::Exact)
@@ -134,7 +189,7 @@ impl ForceList {
         out: &mut [Vec3],
     ) {
         parallel::for_each_span(&mut *out, |_, out| out.fill(Vec3::ZERO));
-        for f in self.linearized(which) {
+        for f in self.linearized(context, which) {
             f.add_jacobian_products(context, scale, p, out);
         }
     }
@@ -149,13 +204,14 @@ impl ForceList {
         diagonal: &mut [Vec3],
     ) {
         parallel::for_each_span(&mut *diagonal, |_, diagonal| diagonal.fill(Vec3::ZERO));
-        for f in self.linearized(which) {
+        for f in self.linearized(context, which) {
             f.add_jacobian_diagonal(context, scale, diagonal);
         }
     }
 }
 
-/// Whether `which` asks for the Jacobians of `force`.
-fn asked_for(force: &dyn Force, which: Jacobians) -> bool {
-    which == Jacobians::All || !(force as &dyn std::any::Any).is::<SpringForce>()
+/// Whether `which` asks for the Jacobians of `force` at `context`: all,
+/// or all but those of the forces that are sums of springs.
+fn asked_for(force: &dyn Force, context: &ForceContext, which: Jacobians) -> bool {
+    which == Jacobians::All || force.springs(context).is_none()
 }

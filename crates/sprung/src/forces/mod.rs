@@ -12,18 +12,31 @@
 //! stored positions directly) and
 //!
 //! - adds its force (N) into a buffer ([`Force::accumulate`]);
-//! - adds its potential energy (J) to the right term ([`Force::add_energy`]);
+//! - adds its share of the stable-step bounds ([`Force::add_stiffness`]),
+//!   which the stable-step estimate and `substeps = "auto"` walk the list
+//!   for;
+//! - names its potential-energy term and adds its energy (J) to it
+//!   ([`Force::energy_name`], [`Force::add_potential_energy`]): the
+//!   energy's terms, the columns of `diagnostics.csv` and the plots come
+//!   from the list;
 //! - for the implicit solvers, linearises itself at a state
 //!   ([`Force::linearize`]) and then gives the products of its Jacobians
 //!   with any vector, `α ∂f/∂x·p + β ∂f/∂v·p` ([`Force::add_jacobian_products`]),
 //!   and the diagonal of those Jacobians ([`Force::add_jacobian_diagonal`])
-//!   for the preconditioner. None of these has a default: a force says how it
-//!   takes part in an implicit solve ([`Linearization`]), so none is left out
-//!   by accident.
+//!   for the preconditioner.
+//!
+//! None of these has a default: a force says how stiff it is, what energy
+//! it has and how it takes part in an implicit solve ([`Linearization`]),
+//! so none is left out by accident. What only some forces do has a
+//! default that does nothing: the springs the projective solver stands in
+//! for ([`Force::springs`]), impulses in the friction stage
+//! ([`Force::apply_impulses`]), and a uniform acceleration
+//! ([`Force::uniform_acceleration`], gravity's).
 //!
 //! To add a force: a type implementing [`Force`] in its own file here, added
 //! with `world.forces.push(...)` (or [`ForceList::set`] for one of a kind).
 
+mod bounds;
 mod contact;
 mod drag;
 mod gravitation;
@@ -36,6 +49,7 @@ mod surfaces;
 mod wind;
 mod wind_field;
 
+pub use bounds::StiffnessBounds;
 pub use contact::PenaltyContacts;
 pub use drag::AirDrag;
 pub use gravitation::{
@@ -51,8 +65,7 @@ pub use wind_field::{Gusts, Turbulence, WindField};
 
 use crate::body::Body;
 use crate::collide::Collider;
-use crate::contact::Contacts;
-use crate::measure::Energies;
+use crate::contact::{Contacts, RigidParts};
 use crate::springs::Springs;
 use crate::{Real, Vec3};
 
@@ -77,6 +90,27 @@ pub struct ForceContext<'a> {
     pub colliders: &'a [Collider],
     /// Contact between bodies: settings and the step's candidate pairs.
     pub contacts: &'a Contacts,
+}
+
+/// The state at the end of a (sub)step that the friction stage changes by
+/// impulses ([`Force::apply_impulses`]), and the world it belongs to.
+#[derive(Debug)]
+pub struct ImpulseContext<'a> {
+    /// Simulated time at the end of the (sub)step (s).
+    pub time: Real,
+    /// The (sub)step's length (s).
+    pub dt: Real,
+    /// Positions (m), to move by a velocity change times `dt`.
+    pub position: &'a mut [Vec3],
+    /// Velocities (m/s), to change by the impulses over the masses.
+    pub velocity: &'a mut [Vec3],
+    /// Inverse masses (1/kg), zero for pinned particles.
+    pub inverse_mass: &'a [Real],
+    /// Contact between bodies: settings and the step's candidate pairs.
+    pub contacts: &'a Contacts,
+    /// The rigid bodies' particles and motions: impulses on them act on
+    /// the bodies' motions.
+    pub(crate) rigid: RigidParts<'a>,
 }
 
 /// The weights of a Jacobian product: `position ∂f/∂x·p + velocity ∂f/∂v·p`.
@@ -120,8 +154,84 @@ pub enum Linearization {
 
 /// A force acting on the particles.
 ///
+/// A force answers for itself everywhere the step needs it: its force
+/// ([`Force::accumulate`]), its share of the explicit methods' stable step
+/// ([`Force::add_stiffness`]), its potential energy under its own name
+/// ([`Force::energy_name`], [`Force::add_potential_energy`]) and its
+/// Jacobians for the implicit solvers ([`Force::linearize`] and the
+/// products). None of these has a default, so a force cannot be left out
+/// of the stable step or the energy by accident: a force that is not stiff
+/// says so with an empty [`Force::add_stiffness`].
+///
 /// `Any` lets a [`ForceList`] hand back a force of a given type
 /// ([`ForceList::get`]), so a user can reach the wind or the hand by type.
+///
+/// A force of one's own, a spring of zero rest length tying particle 0 to
+/// a point (its stiffness bound is `k / m` on that particle):
+///
+/// ```
+/// use sprung::forces::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
+/// use sprung::{Real, Vec3};
+///
+/// #[derive(Debug)]
+/// struct Tether { anchor: Vec3, stiffness: Real }
+///
+/// impl Force for Tether {
+///     fn name(&self) -> &'static str { "tether" }
+///     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
+///         force[0] += self.stiffness * (self.anchor - context.position[0]);
+///     }
+///     fn add_stiffness(&self, context: &ForceContext, bounds: &mut StiffnessBounds) {
+///         bounds.stiffness[0] += self.stiffness * context.inverse_mass[0];
+///     }
+///     fn energy_name(&self) -> Option<&'static str> { Some("tether") }
+///     fn add_potential_energy(&self, context: &ForceContext, energy: &mut Real) {
+///         *energy += 0.5 * self.stiffness * context.position[0].distance_squared(self.anchor);
+///     }
+///     fn linearize(&mut self, _: &ForceContext) -> Linearization { Linearization::Exact }
+///     fn add_jacobian_products(&self, _: &ForceContext, scale: JacobianScale, p: &[Vec3], out: &mut [Vec3]) {
+///         out[0] -= scale.position * self.stiffness * p[0];
+///     }
+///     fn add_jacobian_diagonal(&self, _: &ForceContext, scale: JacobianScale, diagonal: &mut [Vec3]) {
+///         diagonal[0] -= Vec3::splat(scale.position * self.stiffness);
+///     }
+/// }
+///
+/// let mut world = sprung::World::new(sprung::IntegratorKind::SymplecticEuler);
+/// world.add_body("bob", sprung::BodyData::from_positions(vec![Vec3::ZERO])).unwrap();
+/// world.forces.push(Box::new(Tether { anchor: Vec3::X, stiffness: 400.0 }));
+/// // ω = √(k/m) = 20 rad/s: the stable step is 2/ω.
+/// assert!((world.stable_time_step() - 0.1).abs() < 1e-15);
+/// assert_eq!(world.energies().get("tether"), Some(200.0));
+/// ```
+///
+/// Without [`Force::add_stiffness`] it does not compile:
+///
+/// ```compile_fail
+/// use sprung::forces::{Force, ForceContext, JacobianScale, Linearization};
+/// use sprung::{Real, Vec3};
+///
+/// #[derive(Debug)]
+/// struct Tether { anchor: Vec3, stiffness: Real }
+///
+/// impl Force for Tether {
+///     fn name(&self) -> &'static str { "tether" }
+///     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
+///         force[0] += self.stiffness * (self.anchor - context.position[0]);
+///     }
+///     fn energy_name(&self) -> Option<&'static str> { Some("tether") }
+///     fn add_potential_energy(&self, context: &ForceContext, energy: &mut Real) {
+///         *energy += 0.5 * self.stiffness * context.position[0].distance_squared(self.anchor);
+///     }
+///     fn linearize(&mut self, _: &ForceContext) -> Linearization { Linearization::Exact }
+///     fn add_jacobian_products(&self, _: &ForceContext, scale: JacobianScale, p: &[Vec3], out: &mut [Vec3]) {
+///         out[0] -= scale.position * self.stiffness * p[0];
+///     }
+///     fn add_jacobian_diagonal(&self, _: &ForceContext, scale: JacobianScale, diagonal: &mut [Vec3]) {
+///         diagonal[0] -= Vec3::splat(scale.position * self.stiffness);
+///     }
+/// }
+/// ```
 pub trait Force: Send + Sync + std::fmt::Debug + std::any::Any {
     /// A short name for messages.
     fn name(&self) -> &'static str;
@@ -137,20 +247,27 @@ pub trait Force: Send + Sync + std::fmt::Debug + std::any::Any {
         let _ = (context, force);
         false
     }
-    /// Add to `rate[i]` (1/s) a bound on how fast this force damps the
-    /// velocity of particle `i`: its largest `|∂f/∂v|` (N·s/m) on the
-    /// particle times the particle's `inverse_mass` (1/kg). The explicit
-    /// methods' stable step counts it (a step of a damping rate `γ` is
-    /// stable below `2 / γ`, [`crate::measure::stable_time_step`]). Nothing
-    /// by default: the springs and contacts are counted there apart, and
-    /// most forces do not damp (the colliders' penalty damping is not
-    /// counted either).
-    fn add_damping_rates(&self, inverse_mass: &[Real], rate: &mut [Real]) {
-        let _ = (inverse_mass, rate);
-    }
-    /// Add this force's potential energy (J) to the right term of
-    /// `energies`; a force without a potential (drag, wind) adds nothing.
-    fn add_energy(&self, context: &ForceContext, energies: &mut Energies);
+    /// Add this force's share of the bounds the explicit methods' stable
+    /// step is computed from, at the state of `context`: for each particle
+    /// `i`, to `bounds.stiffness[i]` (1/s²) the sum over `j` of
+    /// `|K_ij| / √(m_i m_j)` (`K = -∂f/∂x`, N/m) and to
+    /// `bounds.damping[i]` (1/s) the same for `D = -∂f/∂v` (N·s/m): the
+    /// rows of the mass-scaled Jacobians, whose largest eigenvalues
+    /// Gershgorin's theorem bounds by them (see [`StiffnessBounds`]). The
+    /// stable-step estimate and `substeps = "auto"` walk the list, so a
+    /// stiff force that adds nothing here lets them take steps it blows up
+    /// at. A force that is neither stiff nor damping (gravity, gas pressure)
+    /// adds nothing, with an empty body.
+    fn add_stiffness(&self, context: &ForceContext, bounds: &mut StiffnessBounds);
+    /// The name of this force's potential-energy term (a column of
+    /// `diagnostics.csv`: `"spring"`, `"gravity"`, ...; forces that give
+    /// the same name add into one term), or `None` for a force without a
+    /// potential (drag, wind, the hand).
+    fn energy_name(&self) -> Option<&'static str>;
+    /// Add this force's potential energy (J) at `context` to `energy`, the
+    /// running value of its term ([`Force::energy_name`]); a force without
+    /// a potential adds nothing.
+    fn add_potential_energy(&self, context: &ForceContext, energy: &mut Real);
     /// Prepare the Jacobians at the state of `context` (cache what the
     /// products need) and say how exact they are.
     fn linearize(&mut self, context: &ForceContext) -> Linearization;
@@ -173,4 +290,29 @@ pub trait Force: Send + Sync + std::fmt::Debug + std::any::Any {
         scale: JacobianScale,
         diagonal: &mut [Vec3],
     );
+    /// The springs this force is the sum of, for the solvers that stand in
+    /// for springs with the constant matrix `M + dt² L` of their graph
+    /// Laplacian (the projective solver, the Laplacian preconditioner): the
+    /// spring force gives the world's springs, and the projective solver
+    /// then leaves its Jacobians out ([`Jacobians::AllButSprings`]). `None`
+    /// (the default) for every other force.
+    fn springs<'a>(&self, context: &ForceContext<'a>) -> Option<&'a Springs> {
+        let _ = context;
+        None
+    }
+    /// The friction stage: change the velocities (and positions) at the
+    /// end of a (sub)step by this force's impulses (Coulomb friction between
+    /// bodies, on the touches the contact force last pushed). Nothing by
+    /// default.
+    fn apply_impulses(&mut self, context: &mut ImpulseContext) {
+        let _ = context;
+    }
+    /// The acceleration (m/s²) this force gives every particle alike,
+    /// whatever its mass and state: gravity's; zero (the default) for any
+    /// other force. The world's checks read the sum over the list
+    /// ([`crate::World::gravity`]): the energy a body can gain falling
+    /// across the world, and the speed below which a rigid body rests.
+    fn uniform_acceleration(&self) -> Vec3 {
+        Vec3::ZERO
+    }
 }

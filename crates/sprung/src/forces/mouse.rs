@@ -1,8 +1,7 @@
 //! The user's hand (docs/physics.md §1, user forces): a damped spring between a
 //! grabbed particle and the cursor, so a person can drag and throw a body.
 
-use super::{Force, ForceContext, JacobianScale, Linearization};
-use crate::measure::Energies;
+use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::{Real, Vec3};
 
 /// A spring of zero rest length from particle `particle` to `target`:
@@ -34,19 +33,24 @@ impl Force for MouseSpring {
         }
     }
 
-    /// `c / m` on the grabbed particle (its stiffness is left out: the hand
-    /// is soft beside the springs it pulls).
-    fn add_damping_rates(&self, inverse_mass: &[Real], rate: &mut [Real]) {
-        if let (Some(rate), Some(w)) =
-            (rate.get_mut(self.particle), inverse_mass.get(self.particle))
-        {
+    /// `c / m` on the grabbed particle's damping (its stiffness is left
+    /// out: the hand is soft beside the springs it pulls).
+    fn add_stiffness(&self, context: &ForceContext, bounds: &mut StiffnessBounds) {
+        if let (Some(rate), Some(w)) = (
+            bounds.damping.get_mut(self.particle),
+            context.inverse_mass.get(self.particle),
+        ) {
             *rate += self.damping * w;
         }
     }
 
     /// The hand does work on the system: its spring is not counted as part
     /// of the system's energy.
-    fn add_energy(&self, _context: &ForceContext, _energies: &mut Energies) {}
+    fn energy_name(&self) -> Option<&'static str> {
+        None
+    }
+
+    fn add_potential_energy(&self, _: &ForceContext, _: &mut Real) {}
 
     /// `∂f/∂x = -k I`, `∂f/∂v = -c I` on the grabbed particle, exactly.
     fn linearize(&mut self, _context: &ForceContext) -> Linearization {

@@ -22,10 +22,9 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::surfaces::{on_its_own, own_surface, BodySurface, Surfaces};
-use super::{Force, ForceContext, JacobianScale, Linearization};
+use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::body::Body;
 use crate::gas::VolumeModel;
-use crate::measure::Energies;
 use crate::parallel;
 use crate::{Real, Vec3};
 
@@ -112,12 +111,21 @@ impl Force for GasPressure {
         }
     }
 
-    fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
+    /// Not counted in the stable step: the gas's stiffness, `nRT / V²`
+    /// times the outer product of the volume gradient, acts on the body's
+    /// volume as a whole, and the springs of its surface hold the step.
+    fn add_stiffness(&self, _: &ForceContext, _: &mut StiffnessBounds) {}
+
+    fn energy_name(&self) -> Option<&'static str> {
+        Some("gas")
+    }
+
+    fn add_potential_energy(&self, context: &ForceContext, energy: &mut Real) {
         for body in context.bodies {
             let Some(gas) = &body.gas else { continue };
             let volume = gas.volume_model.volume(body, context.position);
             if volume > 0.0 {
-                energies.gas -= gas.nrt_at(context.time) * volume.ln();
+                *energy -= gas.nrt_at(context.time) * volume.ln();
             }
         }
     }

@@ -19,9 +19,8 @@
 
 use super::surfaces::Surfaces;
 use super::wind_field::WindField;
-use super::{Force, ForceContext, JacobianScale, Linearization};
+use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::error::BuildError;
-use crate::measure::Energies;
 use crate::parallel;
 use crate::{Real, Vec3};
 
@@ -211,9 +210,9 @@ impl Force for Wind {
     /// its unit normal at `c / m` (counted on every particle, faces or not);
     /// the area model's force grows with the square of the relative speed
     /// and has no fixed rate (not counted).
-    fn add_damping_rates(&self, inverse_mass: &[Real], rate: &mut [Real]) {
+    fn add_stiffness(&self, context: &ForceContext, bounds: &mut StiffnessBounds) {
         if let WindModel::Simple { coefficient } = self.model {
-            for (rate, w) in rate.iter_mut().zip(inverse_mass) {
+            for (rate, w) in bounds.damping.iter_mut().zip(context.inverse_mass) {
                 *rate += coefficient * w;
             }
         }
@@ -227,7 +226,11 @@ impl Force for Wind {
     }
 
     /// Wind does work on the system: no potential energy.
-    fn add_energy(&self, _context: &ForceContext, _energies: &mut Energies) {}
+    fn energy_name(&self) -> Option<&'static str> {
+        None
+    }
+
+    fn add_potential_energy(&self, _: &ForceContext, _: &mut Real) {}
 
     fn linearize(&mut self, _context: &ForceContext) -> Linearization {
         Linearization::Explicit

@@ -56,8 +56,10 @@ pub trait Derivative {
     /// Inverse masses (1/kg); 0 marks a pinned particle, which stays where
     /// it is with zero velocity.
     fn inverse_mass(&self) -> &[Real];
-    /// The springs (the projective solver builds its matrix from their
-    /// stiffnesses).
+    /// The springs of the forces that are sums of springs
+    /// ([`crate::forces::Force::springs`]; none: no springs), which the
+    /// projective solver and the Laplacian preconditioner build their
+    /// matrix `M + dt² L` from.
     fn springs(&self) -> &Springs;
     /// Write the total force `f(x, v, t)` (N) into `force`, one entry per
     /// particle.

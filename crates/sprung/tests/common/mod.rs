@@ -299,7 +299,16 @@ impl sprung::forces::Force for Watcher {
     fn accumulate(&mut self, _: &sprung::forces::ForceContext, _: &mut [Vec3]) {
         (self.0)();
     }
-    fn add_energy(&self, _: &sprung::forces::ForceContext, _: &mut sprung::measure::Energies) {}
+    fn add_stiffness(
+        &self,
+        _: &sprung::forces::ForceContext,
+        _: &mut sprung::forces::StiffnessBounds,
+    ) {
+    }
+    fn energy_name(&self) -> Option<&'static str> {
+        None
+    }
+    fn add_potential_energy(&self, _: &sprung::forces::ForceContext, _: &mut Real) {}
     fn linearize(&mut self, _: &sprung::forces::ForceContext) -> sprung::forces::Linearization {
         sprung::forces::Linearization::Exact
     }

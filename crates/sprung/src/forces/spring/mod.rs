@@ -26,9 +26,8 @@ mod batch;
 pub use batch::pulls_alone;
 use batch::SpringBatch;
 
-use super::{Force, ForceContext, JacobianScale, Linearization};
+use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::body::Body;
-use crate::measure::Energies;
 use crate::parallel::{self, Schedule};
 use crate::springs::Springs;
 use crate::{Real, Vec3};
@@ -232,8 +231,33 @@ impl Force for SpringForce {
         });
     }
 
-    fn add_energy(&self, context: &ForceContext, energies: &mut Energies) {
-        energies.spring += spring_energy(context.springs, context.position);
+    /// A spring of stiffness `k` and damping `c` between `i` and `j` adds
+    /// `k (w_i + √(w_i w_j))` to row `i`'s stiffness bound and `c (w_i +
+    /// √(w_i w_j))` to its damping bound (`w` the inverse masses: a pinned
+    /// neighbour counts as infinite mass), and the same to row `j`'s.
+    fn add_stiffness(&self, context: &ForceContext, bounds: &mut StiffnessBounds) {
+        let (springs, inverse_mass) = (context.springs, context.inverse_mass);
+        for s in 0..springs.len() {
+            let (i, j) = (springs.first()[s] as usize, springs.second()[s] as usize);
+            let (wi, wj) = (inverse_mass[i], inverse_mass[j]);
+            let coupling = (wi * wj).sqrt();
+            for (me, w) in [(i, wi), (j, wj)] {
+                bounds.stiffness[me] += springs.stiffness[s] * (w + coupling);
+                bounds.damping[me] += springs.damping[s] * (w + coupling);
+            }
+        }
+    }
+
+    fn energy_name(&self) -> Option<&'static str> {
+        Some("spring")
+    }
+
+    fn add_potential_energy(&self, context: &ForceContext, energy: &mut Real) {
+        *energy += spring_energy(context.springs, context.position);
+    }
+
+    fn springs<'a>(&self, context: &ForceContext<'a>) -> Option<&'a Springs> {
+        Some(context.springs)
     }
 
     fn linearize(&mut self, context: &ForceContext) -> Linearization {
