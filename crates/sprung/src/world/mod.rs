@@ -1,0 +1,290 @@
+//! The world: particles, springs, bodies, forces, colliders and the
+//! integrator, and the step that moves them.
+//!
+//! One step is a short sequence of named stages:
+//!
+//! 1. **forces**: the integrator asks [`Dynamics`] for the forces of the one
+//!    [`ForceList`] (gravity, springs, gas pressure, air drag, wind, the
+//!    user's hand, penalty contacts, anything added) at every trial state it
+//!    needs, and the implicit integrators for their Jacobian products;
+//! 2. **integrate** positions and velocities (explicit, or implicit with a
+//!    solver that reports its iterations in a [`StepReport`]);
+//! 3. **collide**: projection-form colliders, where they are at the end of
+//!    the step (moving ones follow their path), move particles back out,
+//!    then friction between bodies;
+//! 4. **constrain** ([`crate::constrain`]): rigid rods and rigid bodies
+//!    put back on their lengths and shapes, velocities with them, so they
+//!    hold exactly at the end of every step (muscles set their rest lengths
+//!    before the forces);
+//! 5. **guard**: a non-finite or runaway state stops the run with
+//!    [`StepError::BlowUp`].
+
+use crate::body::Body;
+use crate::collide::Collider;
+use crate::constrain::{ConstraintSettings, Muscles, RigidBodies, RodReport, Rods};
+use crate::contact::{BodyContacts, Contacts};
+use crate::forces::{
+    AirDrag, ForceList, GasPressure, Gravity, PenaltyContacts, SpringForce, StiffnessBounds,
+};
+use crate::integrate::{Integrator, IntegratorKind, SolverSettings, StepReport};
+use crate::parallel;
+use crate::particles::Particles;
+use crate::springs::Springs;
+use crate::{Real, Vec3};
+
+mod bodies;
+mod dynamics;
+mod observe;
+mod state;
+mod step;
+
+pub use dynamics::Dynamics;
+
+/// The approach speed (m/s) below which a rigid body's contact with a
+/// collider rests instead of bouncing (engines use such a threshold:
+/// Box2D's is 1 m/s); a drop from 0.5 mm lands this fast.
+pub const RESTING_SPEED: Real = 0.1;
+
+/// Most substeps [`Substeps::Auto`] splits a step into.
+pub const MAX_SUBSTEPS: u32 = 1_000_000;
+
+/// How many substeps each step of the world is split into.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Substeps {
+    /// Always this many (at least 1).
+    Fixed(u32),
+    /// For the explicit fixed-step integrators, as many as the stability
+    /// estimate asks (springs, penalty colliders, contacts); one for the
+    /// implicit and adaptive ones.
+    Auto,
+}
+
+/// World-wide settings: blow-up limits and the implicit solvers' tolerances.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// A particle farther than this from the origin (m) means the run has
+    /// blown up. Default 1e6 m.
+    pub max_distance: Real,
+    /// A particle faster than this (m/s) means the run has blown up.
+    /// Default 1e6 m/s.
+    pub max_speed: Real,
+    /// Tolerances and iteration limits of the implicit integrators.
+    pub solver: SolverSettings,
+    /// Substeps of each step. Default one.
+    pub substeps: Substeps,
+    /// Tolerance and sweeps of the rods' projection.
+    pub constraints: ConstraintSettings,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            max_distance: 1e6,
+            max_speed: 1e6,
+            solver: SolverSettings::default(),
+            substeps: Substeps::Fixed(1),
+            constraints: ConstraintSettings::default(),
+        }
+    }
+}
+
+/// Acceleration of gravity a new world starts with (m/s²).
+pub const DEFAULT_GRAVITY: Vec3 = Vec3::new(0.0, -9.81, 0.0);
+
+/// How often an implicit solver stopped above its tolerance during a run.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SolverStats {
+    /// Steps whose solve ended at its iteration limit above the tolerance.
+    pub unconverged_steps: u64,
+    /// The first such step and its final relative residual.
+    pub first_unconverged: Option<(u64, Real)>,
+}
+
+/// How often the rods' projection stopped at `constraint_iterations` with
+/// a rod still off its length by more than `constraint_tolerance`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ConstraintStats {
+    /// Steps that ended with a rod beyond the tolerance.
+    pub unconverged_steps: u64,
+    /// The first such step and its largest relative length error.
+    pub first_unconverged: Option<(u64, Real)>,
+}
+
+/// A simulated world.
+#[derive(Debug)]
+pub struct World {
+    /// Every particle of every body.
+    pub particles: Particles,
+    /// Every spring of every body.
+    pub springs: Springs,
+    /// The bodies, in the order they were added (add them with
+    /// [`World::add_body`], which keeps the index of names that
+    /// [`World::body`] looks them up in).
+    pub bodies: Vec<Body>,
+    /// Every force acting on the particles: a new world has gravity
+    /// ([`DEFAULT_GRAVITY`]), the springs, the gas pressure and the penalty
+    /// contacts of the colliders; wind, drag, the hand and any other force
+    /// are added to it.
+    pub forces: ForceList,
+    /// Colliders the particles must stay out of.
+    pub colliders: Vec<Collider>,
+    /// Contact between bodies: settings and the step's candidate pairs.
+    pub contacts: Contacts,
+    /// Blow-up limits and solver tolerances.
+    pub settings: Settings,
+    /// Rigid rods (distance constraints) of every body.
+    pub rods: Rods,
+    /// Springs whose rest lengths change in time.
+    pub muscles: Muscles,
+    /// Rigid bodies.
+    pub rigid: RigidBodies,
+    /// Each body's index by name (names are unique).
+    names: std::collections::HashMap<String, usize>,
+    /// Positions at the start of the (sub)step, for the rods' directions.
+    step_start: Vec<Vec3>,
+    /// Positions before the rods' projection (scratch).
+    rod_scratch: Vec<Vec3>,
+    /// What the rods' projection did in the last step.
+    last_rods: RodReport,
+    constraint_stats: ConstraintStats,
+    integrator: Box<dyn Integrator>,
+    time: Real,
+    /// Kahan compensation of `time`, so that many small steps add up to the
+    /// exact duration (20 000 steps of 2.5e-4 s make 5 s, not 5.000000000000365 s).
+    time_compensation: Real,
+    steps: u64,
+    last_report: StepReport,
+    solver_stats: SolverStats,
+    /// The stable-step bounds of automatic substeps (kept for their buffers).
+    stiffness_bounds: StiffnessBounds,
+}
+
+impl World {
+    /// An empty world with default settings, stepped by `integrator`. The
+    /// first world of a process sizes the engine's threads from
+    /// `SPRUNG_THREADS` if it is set (see [`parallel::configure`]).
+    pub fn new(integrator: IntegratorKind) -> Self {
+        parallel::configure_from_env();
+        let mut forces = ForceList::new();
+        forces.set(Gravity {
+            acceleration: DEFAULT_GRAVITY,
+        });
+        forces.set(SpringForce::new());
+        forces.set(GasPressure::new());
+        forces.set(PenaltyContacts::new());
+        forces.set(BodyContacts::new());
+        World {
+            particles: Particles::default(),
+            springs: Springs::default(),
+            bodies: Vec::new(),
+            forces,
+            colliders: Vec::new(),
+            contacts: Contacts::default(),
+            settings: Settings::default(),
+            rods: Rods::default(),
+            muscles: Muscles::default(),
+            rigid: RigidBodies::default(),
+            names: std::collections::HashMap::new(),
+            step_start: Vec::new(),
+            rod_scratch: Vec::new(),
+            last_rods: RodReport::default(),
+            constraint_stats: ConstraintStats::default(),
+            integrator: integrator.create(),
+            time: 0.0,
+            time_compensation: 0.0,
+            steps: 0,
+            last_report: StepReport::default(),
+            solver_stats: SolverStats::default(),
+            stiffness_bounds: StiffnessBounds::default(),
+        }
+    }
+
+    /// Acceleration of gravity (m/s²): the sum of the uniform accelerations
+    /// of the forces in the list ([`Gravity`]'s), zero without one.
+    pub fn gravity(&self) -> Vec3 {
+        self.forces.uniform_acceleration()
+    }
+
+    /// Set the acceleration of gravity (m/s²).
+    pub fn set_gravity(&mut self, acceleration: Vec3) {
+        self.forces.set(Gravity { acceleration });
+    }
+
+    /// Set the global air drag coefficient `c_air` (N·s/m); 0 removes it.
+    pub fn set_air_drag(&mut self, coefficient: Real) {
+        if coefficient == 0.0 {
+            self.forces.remove::<AirDrag>();
+        } else {
+            self.forces.set(AirDrag { coefficient });
+        }
+    }
+
+    /// What the last step's integrator reported (iterations and residual of
+    /// an implicit solve).
+    pub fn last_step_report(&self) -> StepReport {
+        self.last_report
+    }
+
+    /// How often the implicit solver stopped above its tolerance so far.
+    pub fn solver_stats(&self) -> SolverStats {
+        self.solver_stats
+    }
+
+    /// Simulated time (s).
+    pub fn time(&self) -> Real {
+        self.time
+    }
+
+    /// Number of steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// The integrator in use.
+    pub fn integrator(&self) -> IntegratorKind {
+        self.integrator.kind()
+    }
+
+    /// Switch the integrator; positions, velocities and time are kept.
+    pub fn set_integrator(&mut self, kind: IntegratorKind) {
+        if kind != self.integrator.kind() {
+            self.integrator = kind.create();
+        }
+    }
+
+    /// The body called `name`, if any.
+    pub fn body(&self, name: &str) -> Option<&Body> {
+        self.names.get(name).map(|&i| &self.bodies[i])
+    }
+
+    /// What the rods' projection did in the last step: sweeps and the
+    /// largest relative length error left.
+    pub fn last_rod_report(&self) -> RodReport {
+        self.last_rods
+    }
+
+    /// How often the rods' projection stopped above its tolerance so far
+    /// (rods joining very unequal masses converge slowly).
+    pub fn constraint_stats(&self) -> ConstraintStats {
+        self.constraint_stats
+    }
+
+    /// Every spring of the world (indices in [`World::springs`]) in the
+    /// scene's order: body by body, each body's in the order its scene
+    /// gave them ([`Body::springs_in_scene_order`]), then any spring of no
+    /// body in the order stored. What the outputs list springs in.
+    pub fn springs_in_scene_order(&self) -> Vec<usize> {
+        let mut listed = vec![false; self.springs.len()];
+        let mut order: Vec<usize> = Vec::with_capacity(self.springs.len());
+        for body in &self.bodies {
+            for s in body.springs_in_scene_order() {
+                if let Some(seen) = listed.get_mut(s).filter(|seen| !**seen) {
+                    *seen = true;
+                    order.push(s);
+                }
+            }
+        }
+        order.extend((0..self.springs.len()).filter(|&s| !listed[s]));
+        order
+    }
+}
