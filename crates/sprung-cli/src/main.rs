@@ -115,6 +115,11 @@ pub struct RunOptions {
     /// last one atomically.
     #[arg(long, value_name = "K", requires = "save_state", value_parser = values::at_least_one)]
     checkpoint_every: Option<u64>,
+    /// Time each stage of the step (detect, forces, integrate, collide,
+    /// friction, constrain, ...) and print, at the end of the run, each
+    /// stage's total time, share of the steps' time and calls.
+    #[arg(long)]
+    profile: bool,
     /// Go on with a run from the state it saved: the same scene and --out;
     /// --steps and --time count from the start, and the rows and frames
     /// written are the same bytes as a run that never stopped.

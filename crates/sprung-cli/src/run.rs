@@ -152,6 +152,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         outputs.record(&scene.world)?;
     }
     interrupt::install();
+    scene.world.set_profiling(options.profile);
     let progress = progress_bar(steps, options.quiet);
     progress.set_position(scene.world.steps());
     let first_step = scene.world.steps() + 1;
@@ -221,6 +222,9 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
             "warning: the {} solver stopped above its tolerance in {unconverged} of {steps} steps",
             scene.world.integrator()
         );
+    }
+    if options.profile {
+        println!("{}", scene.world.profile());
     }
     if !options.quiet {
         println!(

@@ -209,7 +209,7 @@ impl Force for BodyContacts {
     }
 
     /// Coulomb friction on the touches of the last evaluation
-    /// ([`super::friction`]).
+    /// (see the module docs of [`crate::contact`]).
     fn apply_impulses(&mut self, context: &mut ImpulseContext) {
         let pieces = (self.touches.pieces(), &self.pushes[..], &self.spans);
         friction::apply_friction(pieces, context, &mut self.rigid_friction);

@@ -11,6 +11,7 @@ use crate::springs::Springs;
 use crate::{Real, Vec3};
 
 use super::World;
+use crate::stage::{Stage, Timer};
 
 impl World {
     /// Split the world into its derivative function and the state the
@@ -27,6 +28,7 @@ impl World {
         } = &mut self.particles;
         let dynamics = Dynamics {
             forces: &mut self.forces,
+            timer: &self.timer,
             frame: Frame {
                 colliders: &self.colliders,
                 contacts: &self.contacts,
@@ -78,10 +80,24 @@ impl<'a> Frame<'a> {
 
 /// The world's derivative function: the forces of the list at a trial
 /// state, the masses, and the Jacobian products for the implicit
-/// integrators. Integrators call it at every trial state they need.
+/// integrators. Integrators call it at every trial state they need; the
+/// forces' time is the [`Stage::Forces`] stage's, taken out of the
+/// integrate stage's.
 pub struct Dynamics<'a> {
     forces: &'a mut ForceList,
+    timer: &'a Timer,
     frame: Frame<'a>,
+}
+
+impl Dynamics<'_> {
+    /// Run `forces` as the forces stage: the integrate stage's time so far
+    /// closed, the forces' own timed.
+    fn timed<T>(timer: &Timer, forces: impl FnOnce() -> T) -> T {
+        timer.split(Stage::Integrate);
+        let out = forces();
+        timer.lap(Stage::Forces);
+        out
+    }
 }
 
 impl Derivative for Dynamics<'_> {
@@ -102,7 +118,7 @@ impl Derivative for Dynamics<'_> {
 
     fn force(&mut self, time: Real, position: &[Vec3], velocity: &[Vec3], force: &mut [Vec3]) {
         let context = self.frame.context(time, position, velocity);
-        self.forces.accumulate(&context, force);
+        Self::timed(self.timer, || self.forces.accumulate(&context, force));
     }
 
     fn contact_constraints(&self, state: State, dt: Real, out: &mut Vec<ContactConstraint>) {
@@ -128,7 +144,7 @@ impl Derivative for Dynamics<'_> {
         let context = self
             .frame
             .context(state.time, state.position, state.velocity);
-        self.forces.linearize(&context, which)
+        Self::timed(self.timer, || self.forces.linearize(&context, which))
     }
 
     fn jacobian_products(
@@ -142,8 +158,10 @@ impl Derivative for Dynamics<'_> {
         let context = self
             .frame
             .context(state.time, state.position, state.velocity);
-        self.forces
-            .jacobian_products(&context, which, scale, p, out);
+        Self::timed(self.timer, || {
+            self.forces
+                .jacobian_products(&context, which, scale, p, out)
+        });
     }
 
     fn jacobian_diagonal(
@@ -156,7 +174,9 @@ impl Derivative for Dynamics<'_> {
         let context = self
             .frame
             .context(state.time, state.position, state.velocity);
-        self.forces
-            .jacobian_diagonal(&context, which, scale, diagonal);
+        Self::timed(self.timer, || {
+            self.forces
+                .jacobian_diagonal(&context, which, scale, diagonal)
+        });
     }
 }

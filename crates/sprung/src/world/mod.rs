@@ -1,23 +1,30 @@
 //! The world: particles, springs, bodies, forces, colliders and the
 //! integrator, and the step that moves them.
 //!
-//! One step is a short sequence of named stages:
+//! [`World::step`] is a short walk over named stages ([`Stage`], in this
+//! order; [`World::set_profiling`] times each):
 //!
-//! 1. **forces**: the integrator asks [`Dynamics`] for the forces of the one
-//!    [`ForceList`] (gravity, springs, gas pressure, air drag, wind, the
-//!    user's hand, penalty contacts, anything added) at every trial state it
-//!    needs, and the implicit integrators for their Jacobian products;
-//! 2. **integrate** positions and velocities (explicit, or implicit with a
-//!    solver that reports its iterations in a [`StepReport`]);
-//! 3. **collide**: projection-form colliders, where they are at the end of
-//!    the step (moving ones follow their path), move particles back out,
-//!    then friction between bodies;
-//! 4. **constrain** ([`crate::constrain`]): rigid rods and rigid bodies
+//! 1. **detect**: the candidate contact pairs between bodies;
+//! 2. **substeps**: with `substeps = "auto"`, the stable-step estimate
+//!    splits the step (every force adds its bounds,
+//!    [`crate::forces::Force::add_stiffness`]); then, per substep:
+//! 3. **muscles** set their springs' rest lengths;
+//! 4. **integrate** positions and velocities (explicit, or implicit with a
+//!    solver that reports its iterations in a [`StepReport`]), asking
+//!    [`Dynamics`] for the **forces** of the one [`ForceList`] at every
+//!    trial state it needs, and the implicit integrators for their
+//!    Jacobian products;
+//! 5. **collide**: projection colliders, where they are at the end of the
+//!    step (moving ones follow their path), move particles back out;
+//! 6. **friction**: every force's impulses ([`crate::forces::Force::apply_impulses`]):
+//!    Coulomb friction between bodies;
+//! 7. **constrain** ([`crate::constrain`]): rigid rods and rigid bodies
 //!    put back on their lengths and shapes, velocities with them, so they
-//!    hold exactly at the end of every step (muscles set their rest lengths
-//!    before the forces);
-//! 5. **guard**: a non-finite or runaway state stops the run with
-//!    [`StepError::BlowUp`].
+//!    hold exactly at the end of every step;
+//! 8. **guard**: a non-finite or runaway state stops the run with
+//!    [`StepError::BlowUp`](crate::StepError::BlowUp).
+//!
+//! [`Stage`]: crate::Stage
 
 use crate::body::Body;
 use crate::collide::Collider;
@@ -30,6 +37,7 @@ use crate::integrate::{Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::parallel;
 use crate::particles::Particles;
 use crate::springs::Springs;
+use crate::stage::{Profile, Timer};
 use crate::{Real, Vec3};
 
 mod bodies;
@@ -157,6 +165,8 @@ pub struct World {
     solver_stats: SolverStats,
     /// The stable-step bounds of automatic substeps (kept for their buffers).
     stiffness_bounds: StiffnessBounds,
+    /// The stages' clock, when profiling.
+    timer: Timer,
 }
 
 impl World {
@@ -196,6 +206,7 @@ impl World {
             last_report: StepReport::default(),
             solver_stats: SolverStats::default(),
             stiffness_bounds: StiffnessBounds::default(),
+            timer: Timer::default(),
         }
     }
 
@@ -228,6 +239,28 @@ impl World {
     /// How often the implicit solver stopped above its tolerance so far.
     pub fn solver_stats(&self) -> SolverStats {
         self.solver_stats
+    }
+
+    /// Time each stage of every step from now on ([`World::profile`]), or
+    /// stop. Off (the default), the timers cost one untaken branch a stage.
+    pub fn set_profiling(&mut self, on: bool) {
+        self.timer.set(on);
+    }
+
+    /// Whether the stages are timed ([`World::set_profiling`]).
+    pub fn is_profiling(&self) -> bool {
+        self.timer.is_on()
+    }
+
+    /// Where the steps taken while profiling spent their time, stage by
+    /// stage ([`Stage`](crate::Stage)): times, shares of the steps' wall time and calls.
+    pub fn profile(&self) -> Profile {
+        self.timer.profile()
+    }
+
+    /// Forget the profile so far (to time a window of a run).
+    pub fn reset_profile(&mut self) {
+        self.timer.reset();
     }
 
     /// Simulated time (s).

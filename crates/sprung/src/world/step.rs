@@ -16,12 +16,13 @@ use crate::{Real, Vec3};
 use super::bodies::magnitude;
 use super::World;
 use super::{Substeps, MAX_SUBSTEPS, RESTING_SPEED};
+use crate::stage::Stage;
 
 impl World {
     /// Advance the world by `dt` (s): detect contacts, then per substep set
     /// the muscles, integrate, collide, add friction and constrain (rods,
     /// rigid bodies), then check that the state is still finite and within
-    /// the limits of [`Settings`]. Returns
+    /// the limits of [`Settings`](super::Settings). Returns
     /// what the integrator reported (also kept in
     /// [`World::last_step_report`]); a solve that stopped above its
     /// tolerance is counted in [`World::solver_stats`].
@@ -34,40 +35,60 @@ impl World {
     /// mostly run on the calling thread, steps right there (a hand-over
     /// costs more than its whole step).
     pub fn step(&mut self, dt: Real) -> Result<StepReport, StepError> {
-        if self.particles.len() > parallel::CHUNK {
+        self.timer.begin_step();
+        let report = if self.particles.len() > parallel::CHUNK {
             parallel::in_pool(|| self.step_here(dt))
         } else {
             self.step_here(dt)
-        }
+        };
+        self.timer.end_step();
+        report
     }
 
-    /// [`World::step`], on the thread it is called from.
+    /// [`World::step`], on the thread it is called from: a walk over the
+    /// stages ([`Stage`]), each timed when profiling.
     pub(super) fn step_here(&mut self, dt: Real) -> Result<StepReport, StepError> {
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(StepError::InvalidTimeStep { dt });
-        }
-        self.validate_settings()
-            .map_err(StepError::InvalidSettings)?;
-        self.detect(dt)?;
-        let substeps = self.substeps(dt);
+        self.check_step(dt)?;
+        self.timer.open();
+        self.stage(Stage::Detect, |w| w.detect(dt))?;
+        let substeps = self.stage(Stage::Substeps, |w| w.substeps(dt));
         let h = dt / Real::from(substeps);
         let mut report = StepReport::default();
         for _ in 0..substeps {
-            self.move_muscles()?;
-            if !self.rods.is_empty() {
-                self.step_start.clear();
-                self.step_start.extend_from_slice(&self.particles.position);
-            }
-            report = report.then(self.integrate(h)?);
-            self.advance_time(h);
-            self.collide();
-            self.friction(h);
-            self.constrain(h);
+            self.stage(Stage::Muscles, World::move_muscles)?;
+            report = report.then(self.stage(Stage::Integrate, |w| w.integrate(h))?);
+            self.stage(Stage::Collide, World::collide);
+            self.stage(Stage::Friction, |w| w.friction(h));
+            self.stage(Stage::Constrain, |w| w.constrain(h));
         }
         if substeps > 1 {
             report.substeps = Some(substeps);
             report.step_size = Some(h);
         }
+        self.stage(Stage::Guard, |w| w.guard_step(dt, report))?;
+        Ok(report)
+    }
+
+    /// Run `stage` (`run`) and close its timer.
+    fn stage<T>(&mut self, stage: Stage, run: impl FnOnce(&mut World) -> T) -> T {
+        let out = run(self);
+        self.timer.lap(stage);
+        out
+    }
+
+    /// Refuse a step of `dt` (s) that is not positive and finite, or
+    /// settings that changed to bad ones since the last step.
+    fn check_step(&self, dt: Real) -> Result<(), StepError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(StepError::InvalidTimeStep { dt });
+        }
+        self.validate_settings().map_err(StepError::InvalidSettings)
+    }
+
+    /// The guard stage of a step of `dt` (s) whose integrator reported
+    /// `report`: count the step and its unconverged solves, then fail it if
+    /// the state blew up or a rod is off its length.
+    fn guard_step(&mut self, dt: Real, report: StepReport) -> Result<(), StepError> {
         self.steps += 1;
         self.last_report = report;
         if self.last_rods.error > self.settings.constraints.tolerance {
@@ -85,8 +106,7 @@ impl World {
             }
         }
         self.guard(dt)?;
-        self.check_rods()?;
-        Ok(report)
+        self.check_rods()
     }
 
     /// Fail the step if a rod is off its length by more than
@@ -244,16 +264,26 @@ impl World {
         }
     }
 
+    /// The integrate stage: positions and velocities over a (sub)step of
+    /// `dt` (s), the forces evaluated (and timed) as the integrator asks;
+    /// the time advances.
     pub(super) fn integrate(&mut self, dt: Real) -> Result<StepReport, StepError> {
+        if !self.rods.is_empty() {
+            // The rods keep their directions from the start of the step.
+            self.step_start.clear();
+            self.step_start.extend_from_slice(&self.particles.position);
+        }
         let (time, steps, solver) = (self.time, self.steps, self.settings.solver);
         let (mut dynamics, position, velocity, integrator) = self.split();
-        integrator
+        let report = integrator
             .step(time, dt, position, velocity, &mut dynamics, &solver)
             .map_err(|source| StepError::Solver {
                 step: steps + 1,
                 time,
                 source,
-            })
+            })?;
+        self.advance_time(dt);
+        Ok(report)
     }
 
     pub(super) fn advance_time(&mut self, dt: Real) {
