@@ -332,3 +332,99 @@ fn every_jacobian_is_symmetric_with_the_diagonal_it_reports() {
         }
     }
 }
+
+/// A world of one loose particle of 1 kg at the origin and another
+/// `gap` m from it along `(1, 1, 1)`, each a body without surfaces (so
+/// they meet particle to particle), with velocities `velocity`, no
+/// gravity; its contact pairs found by a step too short to move them
+/// (1e-12 s: the pushes move them by ~1e-20 m).
+fn two_loose_particles(gap: Real, velocity: [Vec3; 2]) -> World {
+    let mut world = World::new(IntegratorKind::ImplicitEuler);
+    world.set_gravity(Vec3::ZERO);
+    let axis = Vec3::ONE.normalize();
+    for (name, x, v) in [
+        ("a", Vec3::ZERO, velocity[0]),
+        ("b", gap * axis, velocity[1]),
+    ] {
+        let mut body = sprung::BodyData::from_positions(vec![x]);
+        body.velocity = vec![v];
+        world.add_body(name, body).expect("valid particle");
+    }
+    world.step(1e-12).expect("a step");
+    world
+}
+
+#[test]
+fn the_body_contact_velocity_jacobian_is_exact() {
+    // The contact's damping -c (u·n) n on the relative velocity u of the
+    // closest points is linear in the velocities: its Jacobian -c n nᵀ
+    // (shared by the closest-point weights) is exact, for particle pairs
+    // and for a particle over a triangle alike.
+    let mut rng = Rng::new(17);
+    let pair = two_loose_particles(0.006, [Vec3::new(0.1, 0.0, 0.0), Vec3::ZERO]);
+    let mut over = World::new(IntegratorKind::ImplicitEuler);
+    over.set_gravity(Vec3::ZERO);
+    let mut sheet = sprung::BodyData::from_positions(vec![
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(2.0, -1.0, 0.0),
+        Vec3::new(-1.0, 2.0, 0.0),
+    ]);
+    sheet.faces = vec![[0, 1, 2]];
+    over.add_body("sheet", sheet).expect("valid triangle");
+    let mut bead = sprung::BodyData::from_positions(vec![Vec3::new(0.2, 0.3, 0.004)]);
+    bead.velocity = vec![Vec3::new(0.05, 0.0, -0.02)];
+    over.add_body("bead", bead).expect("valid particle");
+    over.step(1e-12).expect("a step");
+    for (world, what) in [
+        (&pair, "particle pair"),
+        (&over, "particle over a triangle"),
+    ] {
+        assert_eq!(world.active_contacts(), 1, "{what}");
+        let mut force = sprung::contact::BodyContacts::new();
+        let p = random(world.particles.len(), &mut rng);
+        let analytic = product(&mut force, world, VELOCITY, &p);
+        let numeric = difference(&mut force, world, VELOCITY, &p);
+        // Central differences of a force linear in v: round-off only.
+        let gap = relative_gap(&analytic, &numeric);
+        assert!(gap <= 1e-6, "{what}, ∂f/∂v: {gap:.3e}");
+    }
+}
+
+#[test]
+fn the_body_contact_position_jacobian_leaves_out_only_the_normals_turning() {
+    // Two particles d apart within the thickness h push with f = k (h - d) n,
+    // n = (x_a - x_b) / d. Its exact Jacobian on the relative motion q is
+    // -k n nᵀ q + k (h - d) / d (q - (n·q) n): the product keeps the first
+    // term (definite), and leaves out the second, the normal's turning.
+    // So the central difference equals the product plus that term, on `a`,
+    // and minus it on `b`, for any motion (at rest: no damping term).
+    let mut rng = Rng::new(19);
+    let world = two_loose_particles(0.006, [Vec3::ZERO; 2]);
+    assert_eq!(world.active_contacts(), 1);
+    let thickness = world.contacts.settings.thickness;
+    let x = &world.particles.position;
+    let distance = x[0].distance(x[1]);
+    let normal = (x[0] - x[1]) / distance;
+    // The default stiffness, m (v_ref / h)² for the pair's reduced mass
+    // (½ kg), docs/physics.md §8.
+    let k = 0.5 * (sprung::contact::REFERENCE_SPEED / thickness).powi(2);
+    let mut force = sprung::contact::BodyContacts::new();
+    for _ in 0..3 {
+        let p = random(2, &mut rng);
+        let analytic = product(&mut force, &world, POSITION, &p);
+        let numeric = difference(&mut force, &world, POSITION, &p);
+        let q = p[0] - p[1];
+        let turning = k * (thickness - distance) / distance * (q - normal.dot(q) * normal);
+        let expected = [analytic[0] + turning, analytic[1] - turning];
+        // Truncation ~ε² |f'''| ~ k h / d³ ε², round-off ~1e-16 |f| / ε:
+        // both far below 1e-6 of the difference (~k |q|).
+        let gap = relative_gap(&expected, &numeric);
+        assert!(gap <= 1e-6, "∂f/∂x with the turning added back: {gap:.3e}");
+        // And the part along the normal alone is exact without it.
+        let along = [normal.dot(p[0]) * normal, normal.dot(p[1]) * normal];
+        let analytic = product(&mut force, &world, POSITION, &along);
+        let numeric = difference(&mut force, &world, POSITION, &along);
+        let gap = relative_gap(&analytic, &numeric);
+        assert!(gap <= 1e-6, "∂f/∂x along the normal: {gap:.3e}");
+    }
+}
