@@ -14,9 +14,9 @@ mod common;
 
 use common::Rng;
 use sprung::build::{self, ClothSprings};
+use sprung::collide::ColliderContacts;
 use sprung::forces::{
-    AirDrag, Force, ForceContext, GasPressure, JacobianScale, MouseSpring, PenaltyContacts,
-    SpringForce,
+    AirDrag, Force, ForceContext, GasPressure, JacobianScale, MouseSpring, SpringForce,
 };
 use sprung::{Collider, ContactResponse, Gas, IntegratorKind, Real, Shape, Vec3, World};
 
@@ -209,7 +209,7 @@ fn drag_the_hand_and_a_penalty_floor_have_their_exact_jacobians() {
             }),
             "hand",
         ),
-        (Box::new(PenaltyContacts::new()), "penalty floor"),
+        (Box::new(ColliderContacts::new()), "penalty floor"),
     ];
     for (force, what) in &mut forces {
         for scale in [POSITION, VELOCITY] {

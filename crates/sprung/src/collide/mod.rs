@@ -28,10 +28,12 @@
 //! particles do not push the collider back.
 
 mod constraint;
+mod force;
 mod path;
 mod response;
 
 pub use constraint::{add_contact_constraints, ContactConstraint};
+pub use force::ColliderContacts;
 pub use path::Path;
 pub use response::{penalty_force, project, FRICTION_REGULARISATION};
 

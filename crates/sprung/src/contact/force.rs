@@ -3,6 +3,7 @@
 
 use super::pairs::{Touch, Touches, PREFETCH_TOUCHES};
 use super::{friction, rigid_friction};
+use crate::forces::NormalPush;
 use crate::forces::{
     Force, ForceContext, ImpulseContext, JacobianScale, Linearization, StiffnessBounds,
 };
@@ -56,14 +57,19 @@ pub(crate) struct Pushed {
     pub span: u32,
 }
 
-/// A pushing pair at the linearisation state.
+/// A pushing pair at the linearisation state: its touch and how it pushed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Active {
     touch: Touch,
-    /// Penalty stiffness (N/m).
-    stiffness: Real,
-    /// Penalty damping (N·s/m).
-    damping: Real,
+    push: NormalPush,
+}
+
+impl Active {
+    /// The touch's particles and closest-point weights.
+    fn members(&self) -> impl Iterator<Item = (usize, Real)> + Clone + '_ {
+        let touch = &self.touch;
+        (0..touch.count).map(|k| (touch.particles[k] as usize, touch.weights[k]))
+    }
 }
 
 impl BodyContacts {
@@ -224,11 +230,12 @@ impl Force for BodyContacts {
                 let (stiffness, damping) = coefficients(context, &touch);
                 let normal_speed = touch.relative(context.velocity).dot(touch.normal);
                 if stiffness * touch.depth - damping * normal_speed > 0.0 {
-                    self.active.push(Active {
-                        touch,
+                    let push = NormalPush {
+                        normal: touch.normal,
                         stiffness,
                         damping,
-                    });
+                    };
+                    self.active.push(Active { touch, push });
                 }
             });
         Linearization::Approximate
@@ -242,9 +249,7 @@ impl Force for BodyContacts {
         out: &mut [Vec3],
     ) {
         for a in &self.active {
-            let weight = scale.position * a.stiffness + scale.velocity * a.damping;
-            let along = a.touch.relative(p).dot(a.touch.normal);
-            a.touch.apply(-weight * along * a.touch.normal, out);
+            a.push.add_product(scale, a.members(), p, out);
         }
     }
 
@@ -255,12 +260,7 @@ impl Force for BodyContacts {
         diagonal: &mut [Vec3],
     ) {
         for a in &self.active {
-            let weight = scale.position * a.stiffness + scale.velocity * a.damping;
-            let n2 = a.touch.normal * a.touch.normal;
-            for k in 0..a.touch.count {
-                let w = a.touch.weights[k];
-                diagonal[a.touch.particles[k] as usize] -= weight * w * w * n2;
-            }
+            a.push.add_diagonal(scale, a.members(), diagonal);
         }
     }
 }

@@ -1,5 +1,6 @@
 //! Global air drag: `f_i -= c_air v_i` (docs/physics.md §1).
 
+use super::jacobian::{add_isotropic_diagonal, add_isotropic_product};
 use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::parallel;
 use crate::{Real, Vec3};
@@ -54,12 +55,7 @@ impl Force for AirDrag {
         p: &[Vec3],
         out: &mut [Vec3],
     ) {
-        let factor = -scale.velocity * self.coefficient;
-        parallel::for_each_span(out, |start, out| {
-            for (o, p) in out.iter_mut().zip(&p[start..]) {
-                *o += factor * *p;
-            }
-        });
+        add_isotropic_product((0.0, self.coefficient), scale, p, 0, out);
     }
 
     fn add_jacobian_diagonal(
@@ -68,9 +64,6 @@ impl Force for AirDrag {
         scale: JacobianScale,
         diagonal: &mut [Vec3],
     ) {
-        let factor = -scale.velocity * self.coefficient;
-        for d in diagonal {
-            *d += Vec3::splat(factor);
-        }
+        add_isotropic_diagonal((0.0, self.coefficient), scale, diagonal);
     }
 }

@@ -37,10 +37,10 @@
 //! with `world.forces.push(...)` (or [`ForceList::set`] for one of a kind).
 
 mod bounds;
-mod contact;
 mod drag;
 mod gravitation;
 mod gravity;
+mod jacobian;
 mod list;
 mod mouse;
 mod pressure;
@@ -50,12 +50,12 @@ mod wind;
 mod wind_field;
 
 pub use bounds::StiffnessBounds;
-pub use contact::PenaltyContacts;
 pub use drag::AirDrag;
 pub use gravitation::{
     gravitating_pairs, gravitating_particles, Gravitation, GRAVITATIONAL_CONSTANT, MAX_GRAVITATING,
 };
 pub use gravity::Gravity;
+pub(crate) use jacobian::NormalPush;
 pub use list::ForceList;
 pub use mouse::MouseSpring;
 pub use pressure::{pressure, GasPressure};

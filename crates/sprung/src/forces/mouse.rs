@@ -1,6 +1,7 @@
 //! The user's hand (docs/physics.md §1, user forces): a damped spring between a
 //! grabbed particle and the cursor, so a person can drag and throw a body.
 
+use super::jacobian::{add_isotropic_diagonal, add_isotropic_product};
 use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::{Real, Vec3};
 
@@ -64,8 +65,9 @@ impl Force for MouseSpring {
         p: &[Vec3],
         out: &mut [Vec3],
     ) {
-        if let (Some(o), Some(&p)) = (out.get_mut(self.particle), p.get(self.particle)) {
-            *o -= self.diagonal(scale) * p;
+        let i = self.particle;
+        if i < out.len().min(p.len()) {
+            add_isotropic_product(self.coefficients(), scale, p, i, &mut out[i..=i]);
         }
     }
 
@@ -75,15 +77,16 @@ impl Force for MouseSpring {
         scale: JacobianScale,
         diagonal: &mut [Vec3],
     ) {
-        if let Some(d) = diagonal.get_mut(self.particle) {
-            *d -= Vec3::splat(self.diagonal(scale));
+        if let Some(d) = diagonal.get_mut(self.particle..=self.particle) {
+            add_isotropic_diagonal(self.coefficients(), scale, d);
         }
     }
 }
 
 impl MouseSpring {
-    /// `α k + β c`: minus the scaled Jacobians' (isotropic) diagonal.
-    fn diagonal(&self, scale: JacobianScale) -> Real {
-        scale.position * self.stiffness + scale.velocity * self.damping
+    /// Its stiffness `k` (N/m) and damping `c` (N·s/m): the isotropic
+    /// Jacobians `-k I`, `-c I` on the grabbed particle.
+    fn coefficients(&self) -> (Real, Real) {
+        (self.stiffness, self.damping)
     }
 }

@@ -27,12 +27,10 @@
 //! [`Stage`]: crate::Stage
 
 use crate::body::Body;
-use crate::collide::Collider;
+use crate::collide::{Collider, ColliderContacts};
 use crate::constrain::{ConstraintSettings, Muscles, RigidBodies, RodReport, Rods};
 use crate::contact::{BodyContacts, Contacts};
-use crate::forces::{
-    AirDrag, ForceList, GasPressure, Gravity, PenaltyContacts, SpringForce, StiffnessBounds,
-};
+use crate::forces::{AirDrag, ForceList, GasPressure, Gravity, SpringForce, StiffnessBounds};
 use crate::integrate::{Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::parallel;
 use crate::particles::Particles;
@@ -181,7 +179,7 @@ impl World {
         });
         forces.set(SpringForce::new());
         forces.set(GasPressure::new());
-        forces.set(PenaltyContacts::new());
+        forces.set(ColliderContacts::new());
         forces.set(BodyContacts::new());
         World {
             particles: Particles::default(),

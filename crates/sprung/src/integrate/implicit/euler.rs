@@ -34,7 +34,7 @@
 //! step.
 //!
 //! Projection colliders are velocity constraints of the solve (see
-//! [`ContactConstraint`]): a particle reaching one has its normal velocity
+//! [`ContactConstraint`](crate::collide::ContactConstraint)): a particle reaching one has its normal velocity
 //! prescribed, and its body answers within the same solve.
 //!
 //! Forces take part through their Jacobian products (see
@@ -43,10 +43,9 @@
 //! particles are constraints of the solve (their velocity stays zero), not
 //! large masses.
 
-use super::cg::{jacobi, ConjugateGradient, Limits, Operator};
+use super::cg::{jacobi, Operator};
 use super::laplacian::{self, Factor};
-use super::{mass_minus, Preconditioner, SolverSettings};
-use crate::collide::ContactConstraint;
+use super::{mass_minus, HeldSolve, Preconditioner, SolverSettings};
 use crate::error::SolverError;
 use crate::forces::{JacobianScale, Jacobians};
 use crate::integrate::{fit, Derivative, Integrator, IntegratorKind, State, StepReport};
@@ -63,9 +62,7 @@ pub struct ImplicitEuler {
     product: Vec<Vec3>,
     inverse_diagonal: Vec<Vec3>,
     correction: Vec<Vec3>,
-    contacts: Vec<ContactConstraint>,
-    impulses: Vec<Real>,
-    cg: ConjugateGradient,
+    held: HeldSolve,
     /// The factored `M + dt² L` of the Laplacian preconditioner.
     factor: Option<Factor>,
 }
@@ -94,9 +91,6 @@ impl Operator for NewtonMatrix<'_> {
         }
     }
 }
-
-/// Most times a step is solved again after releasing contacts that pulled.
-const RELEASE_PASSES: usize = 3;
 
 impl Integrator for ImplicitEuler {
     fn kind(&self) -> IntegratorKind {
@@ -131,7 +125,7 @@ impl Integrator for ImplicitEuler {
             position,
             velocity,
         };
-        system.contact_constraints(start, dt, &mut self.contacts);
+        system.contact_constraints(start, dt, &mut self.held.contacts);
         let matrix_scale = JacobianScale {
             position: dt * dt,
             velocity: dt,
@@ -210,44 +204,16 @@ impl Integrator for ImplicitEuler {
             };
             // The first iteration decides which contacts hold: those that
             // pulled are released and the system solved again.
-            let passes = if newton == 0 { RELEASE_PASSES } else { 1 };
-            for pass in 0..passes {
-                self.correction.fill(Vec3::ZERO);
-                for c in &self.contacts {
-                    let along = c.normal_velocity() - velocity[c.particle].dot(c.normal);
-                    self.correction[c.particle] = along * c.normal;
-                }
-                let limits = Limits {
-                    inverse_mass: system.inverse_mass(),
-                    contacts: &self.contacts,
-                    tolerance: solver.tolerance,
-                    max_iterations: solver.max_iterations,
-                };
-                let outcome =
-                    self.cg
-                        .solve(&mut matrix, &self.right_side, &mut self.correction, limits);
-                report.iterations = Some(report.iterations.unwrap_or(0) + outcome.iterations);
-                report.residual = Some(outcome.residual);
-                report.unconverged |= !outcome.converged;
-                self.cg.contact_impulses(
-                    &mut matrix,
-                    &self.right_side,
-                    &self.correction,
-                    &self.contacts,
-                    &mut self.impulses,
-                );
-                let pulled = self.impulses.iter().any(|&j| j < 0.0);
-                if !pulled || pass + 1 == passes {
-                    break;
-                }
-                let mut index = 0;
-                let impulses = &self.impulses;
-                self.contacts.retain(|_| {
-                    index += 1;
-                    impulses[index - 1] >= 0.0
-                });
-            }
-            for (c, &impulse) in self.contacts.iter_mut().zip(&self.impulses) {
+            let v = &*velocity;
+            self.held.solve(
+                &mut matrix,
+                (&self.right_side, &mut self.correction),
+                (system.inverse_mass(), solver),
+                newton == 0,
+                |c| (c.normal_velocity() - v[c.particle].dot(c.normal)) * c.normal,
+                &mut report,
+            );
+            for (c, &impulse) in self.held.contacts.iter_mut().zip(&self.held.impulses) {
                 c.normal_change = impulse.max(0.0) / mass[c.particle];
             }
             let (correction, start_position) = (&self.correction, &self.start_position);
@@ -258,7 +224,7 @@ impl Integrator for ImplicitEuler {
                 }
             });
         }
-        for c in &self.contacts {
+        for c in &self.held.contacts {
             c.apply_friction(&mut velocity[c.particle]);
             position[c.particle] = self.start_position[c.particle] + dt * velocity[c.particle];
         }

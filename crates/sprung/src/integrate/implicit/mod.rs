@@ -18,7 +18,11 @@ mod projective;
 pub use euler::ImplicitEuler;
 pub use projective::Projective;
 
+use cg::{ConjugateGradient, Limits, Operator};
+
+use crate::collide::ContactConstraint;
 use crate::error::BuildError;
+use crate::integrate::StepReport;
 use crate::parallel;
 use crate::{Real, Vec3};
 
@@ -168,4 +172,71 @@ fn finite_difference(position: &[Vec3], start_position: &[Vec3], dt: Real, veloc
             *v = (position[start + k] - start_position[start + k]) / dt;
         }
     });
+}
+
+/// Most times a solve is done again after releasing contacts that pulled.
+const RELEASE_PASSES: usize = 3;
+
+/// The linear solves of both implicit integrators with the projection
+/// colliders' contacts held, and their buffers.
+#[derive(Debug, Default)]
+struct HeldSolve {
+    cg: ConjugateGradient,
+    /// The step's contacts with projection colliders; those that pull are
+    /// let go.
+    contacts: Vec<ContactConstraint>,
+    /// Each contact's impulse in the last solve.
+    impulses: Vec<Real>,
+}
+
+impl HeldSolve {
+    /// Solve `matrix x = right_side` by conjugate gradients from the guess
+    /// `start` gives each contact's particle (along its normal; zero
+    /// elsewhere), each contact's particle kept on its guess along the
+    /// normal. With `release`, the contacts that pull (a negative impulse)
+    /// are let go and the system solved again, up to [`RELEASE_PASSES`]
+    /// times. The contacts' impulses end in `self.impulses`; the
+    /// iterations (where `report` counts them), the last residual and any
+    /// unconverged solve go to `report`.
+    fn solve(
+        &mut self,
+        matrix: &mut dyn Operator,
+        (right_side, x): (&[Vec3], &mut [Vec3]),
+        (inverse_mass, solver): (&[Real], &SolverSettings),
+        release: bool,
+        start: impl Fn(&ContactConstraint) -> Vec3,
+        report: &mut StepReport,
+    ) {
+        let passes = if release { RELEASE_PASSES } else { 1 };
+        for pass in 0..passes {
+            x.fill(Vec3::ZERO);
+            for c in &self.contacts {
+                x[c.particle] = start(c);
+            }
+            let limits = Limits {
+                inverse_mass,
+                contacts: &self.contacts,
+                tolerance: solver.tolerance,
+                max_iterations: solver.max_iterations,
+            };
+            let outcome = self.cg.solve(matrix, right_side, x, limits);
+            if let Some(iterations) = report.iterations.as_mut() {
+                *iterations += outcome.iterations;
+            }
+            report.residual = Some(outcome.residual);
+            report.unconverged |= !outcome.converged;
+            self.cg
+                .contact_impulses(matrix, right_side, x, &self.contacts, &mut self.impulses);
+            let pulled = self.impulses.iter().any(|&j| j < 0.0);
+            if !pulled || pass + 1 == passes {
+                break;
+            }
+            let mut index = 0;
+            let impulses = &self.impulses;
+            self.contacts.retain(|_| {
+                index += 1;
+                impulses[index - 1] >= 0.0
+            });
+        }
+    }
 }

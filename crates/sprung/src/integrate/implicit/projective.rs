@@ -35,16 +35,15 @@
 //! the step conserves momentum.
 //!
 //! Projection colliders are constraints of each global solve (see
-//! [`ContactConstraint`]): a particle reaching one has its end position
+//! [`ContactConstraint`](crate::collide::ContactConstraint)): a particle reaching one has its end position
 //! along the normal prescribed. Pinned particles are left out of the unknowns (their rows and columns
 //! removed, their springs' pull on free particles kept), not given large
 //! masses. The iteration starts from the inertial guess `y` and takes a
 //! fixed number of iterations (`iterations`, default 10), as in the paper.
 
-use super::cg::{ConjugateGradient, Limits, Operator};
+use super::cg::Operator;
 use super::laplacian::{self, Factor};
-use super::{finite_difference, mass_minus, SolverSettings};
-use crate::collide::ContactConstraint;
+use super::{finite_difference, mass_minus, HeldSolve, SolverSettings};
 use crate::error::SolverError;
 use crate::forces::{JacobianScale, Jacobians};
 use crate::integrate::{fit, Derivative, Integrator, IntegratorKind, State, StepReport};
@@ -60,9 +59,7 @@ pub struct Projective {
     force: Vec<Vec3>,
     residual: Vec<Vec3>,
     correction: Vec<Vec3>,
-    contacts: Vec<ContactConstraint>,
-    impulses: Vec<Real>,
-    cg: ConjugateGradient,
+    held: HeldSolve,
 }
 
 /// The global step's matrix `M + dt² L - dt² K_o - dt D_o` at a state,
@@ -92,10 +89,6 @@ impl Operator for GlobalMatrix<'_> {
         self.factor.solve(r, z);
     }
 }
-
-/// Most times the first global solve is done again after releasing
-/// contacts that pulled.
-const RELEASE_PASSES: usize = 3;
 
 impl Integrator for Projective {
     fn kind(&self) -> IntegratorKind {
@@ -127,7 +120,7 @@ impl Integrator for Projective {
             position,
             velocity,
         };
-        system.contact_constraints(start, dt, &mut self.contacts);
+        system.contact_constraints(start, dt, &mut self.held.contacts);
         self.start_position.copy_from_slice(position);
         let v = &*velocity;
         parallel::for_each_span((&mut *position, &mut self.inertial[..]), |start, (x, y)| {
@@ -168,46 +161,25 @@ impl Integrator for Projective {
             };
             // The first iteration decides which contacts hold: those that
             // pulled are released and the system solved again.
-            let passes = if iteration == 0 { RELEASE_PASSES } else { 1 };
-            for pass in 0..passes {
-                self.correction.fill(Vec3::ZERO);
-                for c in &self.contacts {
+            let (x, start_position) = (&*position, &self.start_position);
+            let mut counted = StepReport::default();
+            self.held.solve(
+                &mut matrix,
+                (&self.residual, &mut self.correction),
+                (system.inverse_mass(), solver),
+                iteration == 0,
+                |c| {
                     let i = c.particle;
-                    let reached = self.start_position[i] + dt * c.normal_velocity() * c.normal;
-                    self.correction[i] = (reached - position[i]).dot(c.normal) * c.normal;
-                }
-                let limits = Limits {
-                    inverse_mass: system.inverse_mass(),
-                    contacts: &self.contacts,
-                    tolerance: solver.tolerance,
-                    max_iterations: solver.max_iterations,
-                };
-                let outcome =
-                    self.cg
-                        .solve(&mut matrix, &self.residual, &mut self.correction, limits);
-                report.residual = Some(outcome.residual);
-                report.unconverged |= !outcome.converged;
-                self.cg.contact_impulses(
-                    &mut matrix,
-                    &self.residual,
-                    &self.correction,
-                    &self.contacts,
-                    &mut self.impulses,
-                );
-                let pulled = self.impulses.iter().any(|&j| j < 0.0);
-                if !pulled || pass + 1 == passes {
-                    break;
-                }
-                let mut index = 0;
-                let impulses = &self.impulses;
-                self.contacts.retain(|_| {
-                    index += 1;
-                    impulses[index - 1] >= 0.0
-                });
-            }
+                    let reached = start_position[i] + dt * c.normal_velocity() * c.normal;
+                    (reached - x[i]).dot(c.normal) * c.normal
+                },
+                &mut counted,
+            );
+            report.residual = counted.residual;
+            report.unconverged |= counted.unconverged;
             // The impulse of a position-level solve is in kg·m: over m dt,
             // the velocity change.
-            for (c, &impulse) in self.contacts.iter_mut().zip(&self.impulses) {
+            for (c, &impulse) in self.held.contacts.iter_mut().zip(&self.held.impulses) {
                 c.normal_change = impulse.max(0.0) / (mass[c.particle] * dt);
             }
             let correction = &self.correction;
@@ -218,7 +190,7 @@ impl Integrator for Projective {
             });
         }
         finite_difference(position, &self.start_position, dt, velocity);
-        for c in &self.contacts {
+        for c in &self.held.contacts {
             let i = c.particle;
             c.apply_friction(&mut velocity[i]);
             position[i] = self.start_position[i] + dt * velocity[i];

@@ -8,50 +8,35 @@
 //! (which would make the matrix indefinite inside) and the friction force
 //! are left out: [`Linearization::Approximate`].
 
-use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
-use crate::collide::{self, Collider, ContactResponse};
+use super::{Collider, ContactResponse};
+use crate::forces::{
+    Force, ForceContext, JacobianScale, Linearization, NormalPush, StiffnessBounds,
+};
 use crate::{Real, Vec3};
 
 /// The penalty forces of the world's colliders (reads
 /// `ForceContext::colliders`).
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct PenaltyContacts {
-    /// The contacts pushing at the last linearisation.
-    active: Vec<ActiveContact>,
+pub struct ColliderContacts {
+    /// The particles pushed at the last linearisation, and how.
+    active: Vec<(usize, NormalPush)>,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct ActiveContact {
-    particle: usize,
-    normal: Vec3,
-    /// Penalty stiffness `k_c` (N/m).
-    stiffness: Real,
-    /// Penalty damping `c` along the normal (N·s/m).
-    damping: Real,
-}
-
-impl ActiveContact {
-    /// `α k_c + β c`: minus the scaled Jacobians along the normal.
-    fn weight(&self, scale: JacobianScale) -> Real {
-        scale.position * self.stiffness + scale.velocity * self.damping
-    }
-}
-
-impl PenaltyContacts {
+impl ColliderContacts {
     /// Penalty contacts with nothing linearised yet.
     pub fn new() -> Self {
-        PenaltyContacts::default()
+        ColliderContacts::default()
     }
 }
 
-impl Force for PenaltyContacts {
+impl Force for ColliderContacts {
     fn name(&self) -> &'static str {
-        "penalty contacts"
+        "collider contacts"
     }
 
     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
         for collider in context.colliders {
-            collide::penalty_force(
+            super::penalty_force(
                 collider,
                 context.time,
                 context.position,
@@ -102,12 +87,12 @@ impl Force for PenaltyContacts {
                 let (distance, normal) = shape.distance_and_normal(x);
                 let normal_speed = (v - surface_velocity).dot(normal);
                 if distance < 0.0 && -stiffness * distance - damping * normal_speed > 0.0 {
-                    self.active.push(ActiveContact {
-                        particle,
+                    let push = NormalPush {
                         normal,
                         stiffness,
                         damping,
-                    });
+                    };
+                    self.active.push((particle, push));
                 }
             }
         }
@@ -121,8 +106,8 @@ impl Force for PenaltyContacts {
         p: &[Vec3],
         out: &mut [Vec3],
     ) {
-        for c in &self.active {
-            out[c.particle] -= c.weight(scale) * c.normal.dot(p[c.particle]) * c.normal;
+        for &(particle, push) in &self.active {
+            push.add_product(scale, std::iter::once((particle, 1.0)), p, out);
         }
     }
 
@@ -132,8 +117,8 @@ impl Force for PenaltyContacts {
         scale: JacobianScale,
         diagonal: &mut [Vec3],
     ) {
-        for c in &self.active {
-            diagonal[c.particle] -= c.weight(scale) * c.normal * c.normal;
+        for &(particle, push) in &self.active {
+            push.add_diagonal(scale, std::iter::once((particle, 1.0)), diagonal);
         }
     }
 }
