@@ -1,11 +1,13 @@
 //! The detect stage: candidate pairs for one step from a uniform grid.
 
 use super::buckets::{Buckets, ByParticle, CLEARANCE_BUCKETS};
-use super::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
+use super::geometry::closest_between_segments;
 use super::grid::Grid;
 use super::links::Links;
-use super::pairs::{beyond, Spare};
-use super::{ContactSettings, Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
+use super::pairs::{beyond, Shape, Spare};
+use super::{
+    ContactSettings, Contacts, EdgeEdge, PointElement, PointPoint, PointSegment, PointTriangle,
+};
 use crate::body::{Body, BodyContact};
 use crate::parallel;
 use crate::springs::Springs;
@@ -105,15 +107,6 @@ fn bounds(points: impl Iterator<Item = Vec3>, margin: Real) -> (Vec3, Vec3) {
         |(low, high), p| (low.min(p), high.max(p)),
     );
     (low - Vec3::splat(margin), high + Vec3::splat(margin))
-}
-
-/// The side (+1 or -1) of `offset` along `face`, +1 when in the plane.
-fn side_of(offset: Vec3, face: Vec3) -> Real {
-    if offset.dot(face) < 0.0 {
-        -1.0
-    } else {
-        1.0
-    }
 }
 
 /// Whether two boxes overlap.
@@ -518,10 +511,6 @@ fn edges_collide(body: &Body) -> bool {
 /// Elements a thread takes at a time in the pair search.
 const QUERY_CHUNK: usize = 1024;
 
-/// What a particle–element pair is sorted by: its particle, and its
-/// clearance (m).
-type SortKeys<P> = (fn(&P) -> u32, fn(&P) -> Real);
-
 /// Picks a list of elements (with their bodies) out of the buffers.
 type Elements<const N: usize> = fn(&Scratch) -> &[([u32; N], u32)];
 
@@ -529,6 +518,7 @@ type Elements<const N: usize> = fn(&Scratch) -> &[([u32; N], u32)];
 struct Search<'a> {
     bodies: &'a [Body],
     position: &'a [Vec3],
+    thickness: Real,
     reach: Real,
     /// Width (m) of the buckets of clearance the pairs are put in.
     bucket_width: Real,
@@ -622,24 +612,57 @@ impl Search<'_> {
             && !(body == element_body && element.iter().any(|&v| self.links.linked(particle, v)))
     }
 
+    /// The pair of `particle` with `element` of body `body`, or nothing
+    /// when it cannot touch within the reach: pushed along the outward
+    /// normal of another body's closed surface ([`pushes_outward`]), else
+    /// to the side the particle is on.
+    fn point_pair<const N: usize>(
+        &self,
+        particle: u32,
+        element: [u32; N],
+        body: u32,
+    ) -> Option<PointElement<N>>
+    where
+        PointElement<N>: Shape,
+    {
+        let pair = PointElement {
+            particle,
+            element,
+            body,
+            side: 1.0,
+            clearance: 0.0,
+        };
+        let side = if pushes_outward(self.bodies, particle, body) {
+            1.0
+        } else {
+            pair.side_at(self.position)
+        };
+        let pair = PointElement { side, ..pair };
+        let distance = self.reach - pair.touch(self.position, self.reach)?.depth;
+        Some(PointElement {
+            clearance: beyond(distance, self.thickness),
+            ..pair
+        })
+    }
+
     /// The pairs of every querying particle with the surface elements of
-    /// `elements` (triangles or segments) within reach, into `out` in
-    /// buckets of clearance (`clearance_of`), each particle's pairs
-    /// together in the order of the elements, the particles in ascending
-    /// order within a bucket ([`Buckets::by_particle`]); returns where the
-    /// buckets start. `pair` makes the pair from the particle, the element
-    /// and the element's body, or nothing when it cannot touch within the
-    /// reach. The particles go into a grid (one cell each) and
-    /// each element's box, grown by the reach, asks it for the particles
-    /// inside, in parallel over chunks of elements.
-    fn particles_against<const N: usize, P: Copy + Send + Sync>(
+    /// `elements` (triangles or segments) within reach
+    /// ([`Search::point_pair`]), into `out` in buckets of clearance, each
+    /// particle's pairs together in the order of the elements, the
+    /// particles in ascending order within a bucket
+    /// ([`Buckets::by_particle`]); returns where the buckets start. The
+    /// particles go into a grid (one cell each) and each element's box,
+    /// grown by the reach, asks it for the particles inside, in parallel
+    /// over chunks of elements.
+    fn particles_against<const N: usize>(
         &self,
         scratch: &mut Scratch,
         elements: Elements<N>,
-        (chunks, out): (&mut Vec<Vec<P>>, &mut Vec<P>),
-        (particle_of, clearance_of): SortKeys<P>,
-        pair: impl Fn(u32, [u32; N], u32) -> Option<P> + Sync,
-    ) -> Buckets {
+        (chunks, out): (&mut Vec<Vec<PointElement<N>>>, &mut Vec<PointElement<N>>),
+    ) -> Buckets
+    where
+        PointElement<N>: Shape,
+    {
         out.clear();
         if elements(scratch).is_empty() || scratch.querying.is_empty() {
             return Buckets::empty(self.bucket_width);
@@ -668,7 +691,7 @@ impl Search<'_> {
                         let inside = p.cmpge(low).all() && p.cmple(high).all();
                         let body = built.body_of[particle as usize];
                         if inside && self.may_pair(particle, body, element, element_body) {
-                            found.extend(pair(particle, element, element_body));
+                            found.extend(self.point_pair(particle, element, element_body));
                         }
                     };
                     // An element far larger than the cells (a ground of two
@@ -687,8 +710,8 @@ impl Search<'_> {
         }
         Buckets::by_particle(
             chunks,
-            particle_of,
-            clearance_of,
+            |pair| pair.particle,
+            |pair| pair.clearance,
             self.bucket_width,
             self.position.len(),
             &mut scratch.by_particle,
@@ -865,6 +888,7 @@ impl Contacts {
         let search = Search {
             bodies,
             position,
+            thickness,
             reach,
             bucket_width,
             links,
@@ -875,57 +899,11 @@ impl Contacts {
             scratch,
             |s| &s.triangles,
             (&mut found.point_triangle, &mut pairs.point_triangle),
-            (|pair| pair.particle, |pair| pair.clearance),
-            |particle, [a, b, c], body| {
-                let side = if pushes_outward(bodies, particle, body) {
-                    1.0
-                } else {
-                    let p = x(particle);
-                    let w = closest_on_triangle(p, x(a), x(b), x(c));
-                    let q = w[0] * x(a) + w[1] * x(b) + w[2] * x(c);
-                    side_of(p - q, (x(b) - x(a)).cross(x(c) - x(a)))
-                };
-                let pair = PointTriangle {
-                    particle,
-                    triangle: [a, b, c],
-                    body,
-                    side,
-                    clearance: 0.0,
-                };
-                let distance = reach - pair.touch(position, reach)?.depth;
-                Some(PointTriangle {
-                    clearance: beyond(distance, thickness),
-                    ..pair
-                })
-            },
         );
         let segment_buckets = search.particles_against(
             scratch,
             |s| &s.segments,
             (&mut found.point_segment, &mut pairs.point_segment),
-            (|pair| pair.particle, |pair| pair.clearance),
-            |particle, [a, b], body| {
-                let side = if pushes_outward(bodies, particle, body) {
-                    1.0
-                } else {
-                    let p = x(particle);
-                    let d = x(b) - x(a);
-                    let q = x(a) + closest_on_segment(p, x(a), x(b)) * d;
-                    side_of(p - q, Vec3::new(d.y, -d.x, 0.0))
-                };
-                let pair = PointSegment {
-                    particle,
-                    segment: [a, b],
-                    body,
-                    side,
-                    clearance: 0.0,
-                };
-                let distance = reach - pair.touch(position, reach)?.depth;
-                Some(PointSegment {
-                    clearance: beyond(distance, thickness),
-                    ..pair
-                })
-            },
         );
         search.among(
             scratch,

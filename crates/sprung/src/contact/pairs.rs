@@ -9,45 +9,37 @@ mod touch;
 mod tests;
 
 pub(crate) use measure::{Touches, PREFETCH_TOUCHES};
-pub(crate) use touch::Touch;
+pub(crate) use touch::{Shape, Touch};
 
 use super::buckets::Buckets;
 use crate::{Real, Vec3};
 
-/// A particle against a triangle of a surface (3D).
+/// A particle against a surface element of `N` particles: a triangle of a
+/// surface ([`PointTriangle`], 3D) or a segment of a 2D loop
+/// ([`PointSegment`]). Their geometry, which differs, is in their touch.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PointTriangle {
+pub struct PointElement<const N: usize> {
     /// The particle.
     pub particle: u32,
-    /// The triangle's particles.
-    pub triangle: [u32; 3],
-    /// The triangle's body.
+    /// The element's particles.
+    pub element: [u32; N],
+    /// The element's body.
     pub body: u32,
-    /// +1 or -1: the side of the triangle (along `(b - a) × (c - a)`) the
-    /// particle is pushed to (the outside of a closed surface; for an open
-    /// one, the side it was on when the pair was found).
+    /// +1 or -1: the side of the element the particle is pushed to, along
+    /// its normal (a triangle's `(b - a) × (c - a)`, a segment's
+    /// `(Δy, -Δx)`): the outside of a closed surface; for an open one, the
+    /// side it was on when the pair was found.
     pub side: Real,
-    /// How far (m) beyond the thickness the particle was from the triangle
+    /// How far (m) beyond the thickness the particle was from the element
     /// when the pair was found (zero within it, or behind).
     pub clearance: Real,
 }
 
+/// A particle against a triangle of a surface (3D).
+pub type PointTriangle = PointElement<3>;
+
 /// A particle against a segment of a 2D loop.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PointSegment {
-    /// The particle.
-    pub particle: u32,
-    /// The segment's particles.
-    pub segment: [u32; 2],
-    /// The segment's body.
-    pub body: u32,
-    /// +1 or -1: the side along the segment's normal `(Δy, -Δx)` the
-    /// particle is pushed to.
-    pub side: Real,
-    /// How far (m) beyond the thickness the particle was from the segment
-    /// when the pair was found (zero within it, or behind).
-    pub clearance: Real,
-}
+pub type PointSegment = PointElement<2>;
 
 /// An edge against an edge (where at least one surface is open).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -145,21 +137,19 @@ impl ContactPairs {
     /// particles, and each particle's run of particle–element pairs as a
     /// whole (`spare` holds the buffers).
     pub(crate) fn bucket(&mut self, width: Real, spare: &mut Spare) {
-        let particle = |a: &PointTriangle, b: &PointTriangle| a.particle == b.particle;
-        let in_2d = |a: &PointSegment, b: &PointSegment| a.particle == b.particle;
         let points = [
             Buckets::sort(
                 &mut self.point_triangle,
                 width,
                 |p| p.clearance,
-                particle,
+                same_particle,
                 &mut spare.point_triangle,
             ),
             Buckets::sort(
                 &mut self.point_segment,
                 width,
                 |p| p.clearance,
-                in_2d,
+                same_particle,
                 &mut spare.point_segment,
             ),
         ];
@@ -213,18 +203,8 @@ impl ContactPairs {
     /// elements the particle itself is given with the first only.
     pub fn for_each_member(&self, mut visit: impl FnMut(&mut dyn Iterator<Item = u32>)) {
         let within = |clearance: Real| clearance <= self.allowance;
-        point_members(
-            &self.point_triangle,
-            |p| (p.particle, p.body, within(p.clearance)),
-            |p| p.triangle,
-            &mut visit,
-        );
-        point_members(
-            &self.point_segment,
-            |p| (p.particle, p.body, within(p.clearance)),
-            |p| p.segment,
-            &mut visit,
-        );
+        point_members(&self.point_triangle, within, &mut visit);
+        point_members(&self.point_segment, within, &mut visit);
         for p in self.edge_edge.iter().filter(|p| within(p.clearance)) {
             visit(&mut p.first.into_iter().chain(p.second));
         }
@@ -250,10 +230,10 @@ impl ContactPairs {
     fn cut_before(&self, kind: Kind, i: usize) -> bool {
         match kind {
             Kind::PointTriangle => {
-                self.point_triangle[i].particle != self.point_triangle[i - 1].particle
+                !same_particle(&self.point_triangle[i - 1], &self.point_triangle[i])
             }
             Kind::PointSegment => {
-                self.point_segment[i].particle != self.point_segment[i - 1].particle
+                !same_particle(&self.point_segment[i - 1], &self.point_segment[i])
             }
             Kind::EdgeEdge | Kind::PointPoint => true,
         }
@@ -278,33 +258,42 @@ impl Kind {
     ];
 }
 
-/// [`ContactPairs::for_each_member`] over particle–element `pairs`: `key`
-/// gives a pair's particle, the element's body and whether the pair can
-/// touch in the step, `element` the element's particles.
-fn point_members<P, const N: usize>(
-    pairs: &[P],
-    key: impl Fn(&P) -> (u32, u32, bool),
-    element: impl Fn(&P) -> [u32; N],
+/// Whether two particle–element pairs are of one particle's run.
+fn same_particle<const N: usize>(a: &PointElement<N>, b: &PointElement<N>) -> bool {
+    a.particle == b.particle
+}
+
+/// [`ContactPairs::for_each_member`] over particle–element `pairs`, those
+/// whose clearance is `within` the allowance only.
+fn point_members<const N: usize>(
+    pairs: &[PointElement<N>],
+    within: impl Fn(Real) -> bool,
     visit: &mut impl FnMut(&mut dyn Iterator<Item = u32>),
 ) {
     for (i, pair) in pairs.iter().enumerate() {
-        let (particle, _, counts) = key(pair);
-        if counts {
-            let first = first_with_body(&pairs[..i], pair, &key);
-            visit(&mut first.then_some(particle).into_iter().chain(element(pair)));
+        if within(pair.clearance) {
+            let first = first_with_body(&pairs[..i], pair, &within);
+            visit(
+                &mut first
+                    .then_some(pair.particle)
+                    .into_iter()
+                    .chain(pair.element),
+            );
         }
     }
 }
 
 /// Whether `pair` is the first pair of its particle's run in `before` (the
-/// pairs before it) with its body, among those `key` says count
-/// (`(particle, body, counts)`): a particle's pairs come one after another.
-fn first_with_body<P>(before: &[P], pair: &P, key: impl Fn(&P) -> (u32, u32, bool)) -> bool {
-    let (particle, body, _) = key(pair);
+/// pairs before it) with its body, among those whose clearance is `within`
+/// the allowance: a particle's pairs come one after another.
+fn first_with_body<const N: usize>(
+    before: &[PointElement<N>],
+    pair: &PointElement<N>,
+    within: impl Fn(Real) -> bool,
+) -> bool {
     !before
         .iter()
         .rev()
-        .map(&key)
-        .take_while(|&(p, _, _)| p == particle)
-        .any(|(_, b, counts)| counts && b == body)
+        .take_while(|p| p.particle == pair.particle)
+        .any(|p| within(p.clearance) && p.body == pair.body)
 }

@@ -4,8 +4,8 @@
 
 use std::ops::Range;
 
-use super::touch::{apart, Touch};
-use super::{ContactPairs, Kind};
+use super::touch::{apart, Shape, Touch};
+use super::{ContactPairs, Kind, PointElement};
 use crate::contact::geometry::closest_between_segments;
 use crate::parallel;
 use crate::{Real, Vec3};
@@ -45,14 +45,12 @@ impl ContactPairs {
         match kind {
             Kind::PointTriangle => closest_per_body(
                 &self.point_triangle[range],
-                |pair| (pair.particle, pair.body),
-                |pair| {
-                    let near = within(pair.clearance);
-                    near.then(|| pair.touch(position, thickness)).flatten()
-                },
+                within,
+                position,
+                thickness,
                 |pair| {
                     if within(pair.clearance) {
-                        for i in pair.triangle {
+                        for i in pair.element {
                             if let Some(x) = position.get(i as usize) {
                                 crate::cache::prefetch(x);
                             }
@@ -63,11 +61,9 @@ impl ContactPairs {
             ),
             Kind::PointSegment => closest_per_body(
                 &self.point_segment[range],
-                |pair| (pair.particle, pair.body),
-                |pair| {
-                    let near = within(pair.clearance);
-                    near.then(|| pair.touch(position, thickness)).flatten()
-                },
+                within,
+                position,
+                thickness,
                 |_| {},
                 touch,
             ),
@@ -204,23 +200,32 @@ vectorised! {
 /// How many pairs ahead [`closest_per_body`] asks for the particles' positions.
 const PREFETCH_PAIRS: usize = 16;
 
-/// Call `touch` with the deepest touch of each run of `pairs` that share a
-/// particle and a body (`key`), measured by `measure`. The detect stage
-/// writes a particle's pairs one after another, so a run is contiguous.
+/// Call `touch` with the deepest touch of each run of particle–element
+/// `pairs` that share a particle and a body, measured at `position` (m)
+/// with `thickness` (m) where their clearance is `within` the allowance;
+/// `prefetch` asks for a pair's data ahead. The detect stage writes a
+/// particle's pairs one after another, so a run is contiguous.
 #[inline(always)]
-fn closest_per_body<P>(
-    pairs: &[P],
-    key: impl Fn(&P) -> (u32, u32),
-    measure: impl Fn(&P) -> Option<Touch>,
-    prefetch: impl Fn(&P),
+fn closest_per_body<const N: usize>(
+    pairs: &[PointElement<N>],
+    within: impl Fn(Real) -> bool,
+    position: &[Vec3],
+    thickness: Real,
+    prefetch: impl Fn(&PointElement<N>),
     touch: &mut impl FnMut(Touch),
-) {
+) where
+    PointElement<N>: Shape,
+{
+    let measure = |pair: &PointElement<N>| {
+        let near = within(pair.clearance);
+        near.then(|| pair.touch(position, thickness)).flatten()
+    };
     let mut start = 0;
     let mut fetched = 0;
     while start < pairs.len() {
-        let particle = key(&pairs[start]).0;
+        let particle = pairs[start].particle;
         let mut end = start;
-        while end < pairs.len() && key(&pairs[end]).0 == particle {
+        while end < pairs.len() && pairs[end].particle == particle {
             end += 1;
         }
         let ahead = (end + PREFETCH_PAIRS).min(pairs.len());
@@ -231,14 +236,14 @@ fn closest_per_body<P>(
         // Within the particle's run, the deepest touch of each body, bodies
         // in the order they first appear.
         for (first, pair) in pairs[start..end].iter().enumerate() {
-            let body = key(pair).1;
-            if pairs[start..start + first].iter().any(|p| key(p).1 == body) {
+            let body = pair.body;
+            if pairs[start..start + first].iter().any(|p| p.body == body) {
                 continue;
             }
             // Of equally deep touches, the first.
             let mut deepest: Option<Touch> = None;
             for p in &pairs[start + first..end] {
-                if key(p).1 != body {
+                if p.body != body {
                     continue;
                 }
                 if let Some(t) = measure(p) {

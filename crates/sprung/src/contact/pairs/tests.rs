@@ -69,7 +69,7 @@ fn a_pair_whose_clearance_exceeds_the_allowance_cannot_touch() {
         let (mut pairs, mut flat_pairs) = (ContactPairs::default(), ContactPairs::default());
         let triangle = PointTriangle {
             particle: 0,
-            triangle: [1, 2, 3],
+            element: [1, 2, 3],
             body: 1,
             side,
             clearance: 0.0,
@@ -82,7 +82,7 @@ fn a_pair_whose_clearance_exceeds_the_allowance_cannot_touch() {
         }
         let segment = PointSegment {
             particle: 0,
-            segment: [1, 2],
+            element: [1, 2],
             body: 1,
             side,
             clearance: 0.0,
@@ -206,7 +206,7 @@ fn buckets_of_clearance_hold_every_pair_an_allowance_reaches() {
         // Runs of one to four pairs a particle.
         pairs.point_triangle.push(PointTriangle {
             particle: i / 4 * 4 + (i % 4).min(i / 4 % 3),
-            triangle: [i, i + 1, i + 2],
+            element: [i, i + 1, i + 2],
             body: 1,
             side: 1.0,
             clearance: clearance(i),
@@ -226,11 +226,11 @@ fn buckets_of_clearance_hold_every_pair_an_allowance_reaches() {
     }
     // Triangles: each particle's run whole and in its original order.
     let mut sorted = pairs.point_triangle.clone();
-    sorted.sort_by_key(|p| p.triangle[0]);
+    sorted.sort_by_key(|p| p.element[0]);
     assert_eq!(sorted, before.point_triangle);
     for w in pairs.point_triangle.windows(2) {
         if w[0].particle == w[1].particle {
-            assert_eq!(w[0].triangle[0] + 1, w[1].triangle[0]);
+            assert_eq!(w[0].element[0] + 1, w[1].element[0]);
         }
     }
     let runs = before
@@ -278,7 +278,7 @@ fn members_count_a_particle_once_per_body_and_only_pairs_that_can_touch() {
     // the pairs beyond it.
     let pair = |particle, triangle, body, clearance| PointTriangle {
         particle,
-        triangle,
+        element: triangle,
         body,
         side: 1.0,
         clearance,

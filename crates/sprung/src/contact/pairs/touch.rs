@@ -2,26 +2,51 @@
 //! its two sides with the weights of their closest points, the normal, and
 //! how deep inside the thickness they are.
 
-use super::{beyond, EdgeEdge, PointSegment, PointTriangle};
+use super::{beyond, EdgeEdge, PointElement, PointSegment, PointTriangle};
 use crate::contact::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
 use crate::{Real, Vec3};
 
-impl PointTriangle {
+/// The geometry of a particle–element pair, which differs by the shape of
+/// the element: a triangle (3D) or a segment of a 2D loop.
+pub(crate) trait Shape {
+    /// The side (+1 or -1) the particle is on at `position` (m), along the
+    /// element's normal (`(b - a) × (c - a)`, `(Δy, -Δx)`), +1 in its
+    /// plane: the side an open surface pushes it to.
+    fn side_at(&self, position: &[Vec3]) -> Real;
+
+    /// The touch of the pair at `position` (m) if the particle is within
+    /// `thickness` (m) of the element in front of it, or anywhere behind
+    /// it over its inside (a particle that got inside a closed surface is
+    /// pushed out however deep).
+    fn touch(&self, position: &[Vec3], thickness: Real) -> Option<Touch>;
+}
+
+impl<const N: usize> PointElement<N> {
     /// The pair's clearance (m) at `position` (m) for the contact
     /// `thickness` (m), if it is within `reach` (m); zero beyond.
-    pub(crate) fn clearance_at(&self, position: &[Vec3], thickness: Real, reach: Real) -> Real {
+    pub(crate) fn clearance_at(&self, position: &[Vec3], thickness: Real, reach: Real) -> Real
+    where
+        Self: Shape,
+    {
         self.touch(position, reach)
             .map_or(0.0, |t| beyond(reach - t.depth, thickness))
     }
+}
 
-    /// The touch of the pair at `position` (m) if the particle is within
-    /// `thickness` (m) of the triangle in front of it, or anywhere behind
-    /// it over its inside (a particle that got inside a closed surface is
-    /// pushed out however deep).
-    #[inline(always)]
-    pub(crate) fn touch(&self, position: &[Vec3], thickness: Real) -> Option<Touch> {
+impl Shape for PointTriangle {
+    fn side_at(&self, position: &[Vec3]) -> Real {
         let x = |i: u32| position[i as usize];
-        let [a, b, c] = self.triangle;
+        let [a, b, c] = self.element;
+        let p = x(self.particle);
+        let w = closest_on_triangle(p, x(a), x(b), x(c));
+        let q = w[0] * x(a) + w[1] * x(b) + w[2] * x(c);
+        side_of(p - q, (x(b) - x(a)).cross(x(c) - x(a)))
+    }
+
+    #[inline(always)]
+    fn touch(&self, position: &[Vec3], thickness: Real) -> Option<Touch> {
+        let x = |i: u32| position[i as usize];
+        let [a, b, c] = self.element;
         let p = x(self.particle);
         let (xa, xb, xc) = (x(a), x(b), x(c));
         let face = self.side * (xb - xa).cross(xc - xa);
@@ -51,19 +76,21 @@ impl PointTriangle {
     }
 }
 
-impl PointSegment {
-    /// As [`PointTriangle::clearance_at`].
-    pub(crate) fn clearance_at(&self, position: &[Vec3], thickness: Real, reach: Real) -> Real {
-        self.touch(position, reach)
-            .map_or(0.0, |t| beyond(reach - t.depth, thickness))
+impl Shape for PointSegment {
+    fn side_at(&self, position: &[Vec3]) -> Real {
+        let x = |i: u32| position[i as usize];
+        let [a, b] = self.element;
+        let p = x(self.particle);
+        let d = x(b) - x(a);
+        let q = x(a) + closest_on_segment(p, x(a), x(b)) * d;
+        side_of(p - q, Vec3::new(d.y, -d.x, 0.0))
     }
 
-    /// The touch of the pair at `position` (m): as
-    /// [`PointTriangle::touch`], in 2D.
+    /// As the triangle's, in 2D (no box to pass over by).
     #[inline(always)]
-    pub(crate) fn touch(&self, position: &[Vec3], thickness: Real) -> Option<Touch> {
+    fn touch(&self, position: &[Vec3], thickness: Real) -> Option<Touch> {
         let x = |i: u32| position[i as usize];
-        let [a, b] = self.segment;
+        let [a, b] = self.element;
         let p = x(self.particle);
         let d = x(b) - x(a);
         let face = self.side * Vec3::new(d.y, -d.x, 0.0);
@@ -81,6 +108,15 @@ impl PointSegment {
             normal,
             depth,
         })
+    }
+}
+
+/// The side (+1 or -1) of `offset` along `face`, +1 when in the plane.
+fn side_of(offset: Vec3, face: Vec3) -> Real {
+    if offset.dot(face) < 0.0 {
+        -1.0
+    } else {
+        1.0
     }
 }
 
