@@ -6,6 +6,8 @@
 //! Each test file includes this module, and none uses every helper.
 #![allow(dead_code)]
 
+pub mod colliders;
+
 use sprung::{build, BodyData, IntegratorKind, Real, SpringData, Vec3, World};
 
 /// Rest length of the oscillator's spring (m). The free particle must stay
