@@ -7,6 +7,7 @@
 #![allow(dead_code)]
 
 pub mod colliders;
+pub mod gas;
 
 use sprung::{build, BodyData, IntegratorKind, Real, SpringData, Vec3, World};
 
