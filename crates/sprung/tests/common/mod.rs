@@ -8,6 +8,7 @@
 
 pub mod colliders;
 pub mod gas;
+pub mod wind;
 
 use sprung::{build, BodyData, IntegratorKind, Real, SpringData, Vec3, World};
 
