@@ -2,6 +2,7 @@
 #![allow(dead_code)] // each test file uses only some of them
 
 pub mod mutate;
+pub mod scene_errors;
 
 use std::path::PathBuf;
 

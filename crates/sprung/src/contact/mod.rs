@@ -95,7 +95,7 @@ mod state;
 
 pub use detect::{pair_limit, TooManyPairs, MIN_PAIR_LIMIT, PAIRS_PER_ELEMENT};
 pub use force::BodyContacts;
-pub use pairs::{ContactPairs, EdgeEdge, PointPoint, PointSegment, PointTriangle};
+pub use pairs::{ContactPairs, EdgeEdge, PointElement, PointPoint, PointSegment, PointTriangle};
 pub(crate) use rigid_friction::RigidParts;
 
 use crate::error::BuildError;

@@ -29,7 +29,7 @@ impl Contacts {
                 .point_triangle
                 .iter()
                 .flat_map(|p| {
-                    let [a, b, c] = p.triangle.map(index);
+                    let [a, b, c] = p.element.map(index);
                     [index(p.particle), a, b, c, index(p.body), p.side]
                 })
                 .collect(),
@@ -40,7 +40,7 @@ impl Contacts {
                 .point_segment
                 .iter()
                 .flat_map(|p| {
-                    let [a, b] = p.segment.map(index);
+                    let [a, b] = p.element.map(index);
                     [index(p.particle), a, b, index(p.body), p.side]
                 })
                 .collect(),
@@ -116,7 +116,7 @@ impl Contacts {
             let i = |k| index("contact.point_triangle", r, k, n);
             pairs.point_triangle.push(PointTriangle {
                 particle: i(0)?,
-                triangle: [i(1)?, i(2)?, i(3)?],
+                element: [i(1)?, i(2)?, i(3)?],
                 body: index("contact.point_triangle", r, 4, bodies.len())?,
                 side: r[5],
                 clearance: 0.0,
@@ -126,7 +126,7 @@ impl Contacts {
             let i = |k| index("contact.point_segment", r, k, n);
             pairs.point_segment.push(PointSegment {
                 particle: i(0)?,
-                segment: [i(1)?, i(2)?],
+                element: [i(1)?, i(2)?],
                 body: index("contact.point_segment", r, 3, bodies.len())?,
                 side: r[4],
                 clearance: 0.0,

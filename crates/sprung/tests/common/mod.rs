@@ -6,6 +6,10 @@
 //! Each test file includes this module, and none uses every helper.
 #![allow(dead_code)]
 
+pub mod colliders;
+pub mod gas;
+pub mod wind;
+
 use sprung::{build, BodyData, IntegratorKind, Real, SpringData, Vec3, World};
 
 /// Rest length of the oscillator's spring (m). The free particle must stay
