@@ -5,7 +5,7 @@
 //! cursor's motion over each frame).
 
 use macroquad::math::{Rect, Vec2, Vec3};
-use sprung::collide::Path;
+use sprung::colliders::Path;
 use sprung::forces::MouseSpring;
 use sprung::{Collider, ContactResponse, Real, Shape, World};
 

@@ -40,7 +40,7 @@ macro_rules! vectorised {
 pub mod body;
 pub mod build;
 mod cache;
-pub mod collide;
+pub mod colliders;
 pub mod constrain;
 pub mod contact;
 pub mod error;
@@ -63,7 +63,7 @@ pub type Real = f64;
 pub type Vec3 = glam::DVec3;
 
 pub use body::{Body, BodyContact, BodyData, MuscleData, MuscleDrive, RodData, SpringData};
-pub use collide::{Collider, ContactResponse, Path, Shape};
+pub use colliders::{Collider, ContactResponse, Path, Shape};
 pub use constrain::{ConstraintSettings, Rods};
 pub use contact::{ContactSettings, Contacts};
 pub use error::{BuildError, StepError};

@@ -14,7 +14,7 @@ mod common;
 
 use common::Rng;
 use sprung::build::{self, ClothSprings};
-use sprung::collide::ColliderContacts;
+use sprung::colliders::ColliderContacts;
 use sprung::forces::{
     AirDrag, Force, ForceContext, GasPressure, JacobianScale, MouseSpring, SpringForce,
 };

@@ -9,7 +9,7 @@ mod common;
 use common::colliders::{
     distances, normal_tilt, particles_and, projection, sphere, steady, step_outside, G,
 };
-use sprung::collide::Path;
+use sprung::colliders::Path;
 use sprung::{BuildError, Collider, ContactResponse, IntegratorKind, Real, Shape, Vec3, World};
 
 // ------------------------------------------------------- moving colliders

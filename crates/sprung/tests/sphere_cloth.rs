@@ -5,7 +5,7 @@
 mod common;
 
 use common::colliders::{distances, projection, sphere, step_outside};
-use sprung::collide;
+use sprung::colliders;
 use sprung::{build, Collider, ContactResponse, IntegratorKind, Real, Vec3, World};
 
 // ------------------------------------------------------- cloth over a sphere
@@ -154,7 +154,7 @@ fn a_cloth_dropped_on_a_penalty_sphere_stays_within_the_impact_depth() {
         contact_force.fill(Vec3::ZERO);
         let collider = &world.colliders[0];
         let (position, velocity) = (&world.particles.position, &world.particles.velocity);
-        collide::penalty_force(
+        colliders::penalty_force(
             collider,
             world.time(),
             position,

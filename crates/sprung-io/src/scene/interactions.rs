@@ -2,7 +2,7 @@
 //! `[[collider]]`, `[contact]` and `[gravitation]`.
 
 use sprung::forces::{Gravitation, GRAVITATIONAL_CONSTANT};
-use sprung::{collide, Collider, ContactResponse, ContactSettings, Shape};
+use sprung::{colliders, Collider, ContactResponse, ContactSettings, Shape};
 
 use super::tables::{self, ColliderTable};
 use super::{body, vector, KeyError};
@@ -69,7 +69,7 @@ pub(super) fn collider(table: &ColliderTable) -> Result<Collider, KeyError> {
                 )),
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let path = collide::Path::new(keyframes).map_err(|e| ("path", e.to_string()))?;
+        let path = colliders::Path::new(keyframes).map_err(|e| ("path", e.to_string()))?;
         collider = collider.with_path(path);
     }
     Ok(collider)

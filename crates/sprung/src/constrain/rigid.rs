@@ -40,7 +40,7 @@ use std::ops::Range;
 
 use glam::{DMat3, DQuat};
 
-use crate::collide::{Collider, ContactResponse};
+use crate::colliders::{Collider, ContactResponse};
 use crate::{Real, Vec3};
 
 /// One rigid body: its particles, rest shape and last rotation.

@@ -64,7 +64,7 @@ pub use wind::{Wind, WindModel, AIR_DENSITY};
 pub use wind_field::{Gusts, Turbulence, WindField};
 
 use crate::body::Body;
-use crate::collide::Collider;
+use crate::colliders::Collider;
 use crate::contact::{Contacts, RigidParts};
 use crate::springs::Springs;
 use crate::{Real, Vec3};

@@ -29,7 +29,7 @@ pub use rk45::RungeKutta45;
 pub use symplectic_euler::SymplecticEuler;
 pub use verlet::Verlet;
 
-use crate::collide::ContactConstraint;
+use crate::colliders::ContactConstraint;
 use crate::error::SolverError;
 use crate::forces::{JacobianScale, Jacobians, Linearization};
 use crate::parallel;

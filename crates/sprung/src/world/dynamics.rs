@@ -2,7 +2,7 @@
 //! of the list at trial states, the masses, the Jacobian products.
 
 use crate::body::Body;
-use crate::collide::{self, Collider, ContactConstraint};
+use crate::colliders::{self, Collider, ContactConstraint};
 use crate::contact::Contacts;
 use crate::forces::{ForceContext, ForceList, JacobianScale, Jacobians, Linearization};
 use crate::integrate::{Derivative, Integrator, State};
@@ -126,7 +126,7 @@ impl Derivative for Dynamics<'_> {
         // Rigid bodies meet the colliders as bodies, after the step.
         for body in self.frame.bodies.iter().filter(|b| !b.rigid) {
             for collider in self.frame.colliders {
-                collide::add_contact_constraints(
+                colliders::add_contact_constraints(
                     collider,
                     state.time + dt,
                     dt,

@@ -27,7 +27,7 @@
 //! [`Stage`]: crate::Stage
 
 use crate::body::Body;
-use crate::collide::{Collider, ColliderContacts};
+use crate::colliders::{Collider, ColliderContacts};
 use crate::constrain::{ConstraintSettings, Muscles, RigidBodies, RodReport, Rods};
 use crate::contact::{BodyContacts, Contacts};
 use crate::forces::{AirDrag, ForceList, GasPressure, Gravity, SpringForce, StiffnessBounds};

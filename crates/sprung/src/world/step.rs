@@ -2,7 +2,7 @@
 //! integrate with the forces, collide, friction, constrain, guard).
 
 use crate::body::{self, Body};
-use crate::collide::{self};
+use crate::colliders;
 use crate::constrain::RodReport;
 use crate::contact::{Contacts, RigidParts, TooManyPairs};
 use crate::error::{BlowUpReason, BuildError, StepError};
@@ -313,7 +313,7 @@ impl World {
             parallel::for_each_span(spans, |start, (x, v)| {
                 let inverse_mass = &inverse_mass[start..start + x.len()];
                 for collider in colliders {
-                    collide::project(collider, time, x, v, inverse_mass);
+                    colliders::project(collider, time, x, v, inverse_mass);
                 }
             });
         }

@@ -2,7 +2,7 @@
 //! `moving_colliders.rs`, `sphere_cloth.rs`): free particles and a
 //! collider, its shapes and responses, and how deep particles are inside it.
 
-use sprung::collide::Path;
+use sprung::colliders::Path;
 use sprung::{BodyData, Collider, ContactResponse, IntegratorKind, Real, Shape, Vec3, World};
 
 pub const G: Real = 9.81; // m/s²

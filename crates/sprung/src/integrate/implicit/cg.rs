@@ -6,7 +6,7 @@
 //! "Large steps in cloth simulation", SIGGRAPH 1998, §5.3). The matrix and
 //! the preconditioner come from the caller as an [`Operator`].
 
-use crate::collide::ContactConstraint;
+use crate::colliders::ContactConstraint;
 use crate::parallel;
 use crate::{Real, Vec3};
 

@@ -34,7 +34,7 @@
 //! step.
 //!
 //! Projection colliders are velocity constraints of the solve (see
-//! [`ContactConstraint`](crate::collide::ContactConstraint)): a particle reaching one has its normal velocity
+//! [`ContactConstraint`](crate::colliders::ContactConstraint)): a particle reaching one has its normal velocity
 //! prescribed, and its body answers within the same solve.
 //!
 //! Forces take part through their Jacobian products (see

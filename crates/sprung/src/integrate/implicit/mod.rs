@@ -20,7 +20,7 @@ pub use projective::Projective;
 
 use cg::{ConjugateGradient, Limits, Operator};
 
-use crate::collide::ContactConstraint;
+use crate::colliders::ContactConstraint;
 use crate::error::BuildError;
 use crate::integrate::StepReport;
 use crate::parallel;

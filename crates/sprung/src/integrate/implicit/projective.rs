@@ -35,7 +35,7 @@
 //! the step conserves momentum.
 //!
 //! Projection colliders are constraints of each global solve (see
-//! [`ContactConstraint`](crate::collide::ContactConstraint)): a particle reaching one has its end position
+//! [`ContactConstraint`](crate::colliders::ContactConstraint)): a particle reaching one has its end position
 //! along the normal prescribed. Pinned particles are left out of the unknowns (their rows and columns
 //! removed, their springs' pull on free particles kept), not given large
 //! masses. The iteration starts from the inertial guess `y` and takes a
