@@ -51,6 +51,7 @@ pub mod measure;
 mod order;
 pub mod parallel;
 pub mod particles;
+pub mod prelude;
 pub mod springs;
 pub mod stage;
 pub mod state;

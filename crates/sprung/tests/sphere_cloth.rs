@@ -5,7 +5,6 @@
 mod common;
 
 use common::colliders::{distances, projection, sphere, step_outside};
-use sprung::colliders;
 use sprung::{build, Collider, ContactResponse, IntegratorKind, Real, Vec3, World};
 
 // ------------------------------------------------------- cloth over a sphere
@@ -154,13 +153,7 @@ fn a_cloth_dropped_on_a_penalty_sphere_stays_within_the_impact_depth() {
         contact_force.fill(Vec3::ZERO);
         let collider = &world.colliders[0];
         let (position, velocity) = (&world.particles.position, &world.particles.velocity);
-        colliders::penalty_force(
-            collider,
-            world.time(),
-            position,
-            velocity,
-            &mut contact_force,
-        );
+        collider.penalty_force(world.time(), position, velocity, &mut contact_force);
         for (i, (distance, normal)) in distances(&world).into_iter().enumerate() {
             let inward_speed = -world.particles.velocity[i].dot(normal);
             if distance >= 0.0 {

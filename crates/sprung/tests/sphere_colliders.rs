@@ -13,7 +13,7 @@ mod common;
 
 use common::assert_penalty_rest;
 use common::colliders::{normal_tilt, particles_and, projection, sphere, steady, step_outside, G};
-use sprung::colliders::{self, Path};
+use sprung::colliders::Path;
 use sprung::{Collider, ContactResponse, IntegratorKind, Real, Vec3, World};
 
 /// Angle between `a` and `b` (rad), well conditioned near 0 and π.
@@ -372,7 +372,7 @@ fn penalty_sphere_contact_energy_is_half_k_depth_squared() {
     let h = 1e-6;
     let velocity = vec![Vec3::ZERO; moved.len()];
     let mut force = vec![Vec3::ZERO; moved.len()];
-    colliders::penalty_force(&moving, time, &moved, &velocity, &mut force);
+    moving.penalty_force(time, &moved, &velocity, &mut force);
     for i in 0..moved.len() {
         let mut gradient = Vec3::ZERO;
         for axis in 0..3 {

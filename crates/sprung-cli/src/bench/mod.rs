@@ -288,7 +288,7 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
                     since_restart += 1;
                     elapsed += took;
                     allocated.push(memory::allocated() - before);
-                    pairs += world.contacts.pairs.len();
+                    pairs += world.contacts.candidate_pairs();
                 }
                 // Blowing up before any step counts (or again at once after
                 // a restart) would never end: the case cannot be timed.

@@ -32,10 +32,12 @@ mod force;
 mod path;
 mod response;
 
-pub use constraint::{add_contact_constraints, ContactConstraint};
+pub(crate) use constraint::add_contact_constraints;
+pub use constraint::ContactConstraint;
 pub use force::ColliderContacts;
 pub use path::Path;
-pub use response::{penalty_force, project, FRICTION_REGULARISATION};
+pub use response::FRICTION_REGULARISATION;
+pub(crate) use response::{penalty_force, project};
 
 use crate::error::BuildError;
 use crate::{Real, Vec3};
@@ -296,6 +298,21 @@ impl Collider {
             ContactResponse::Penalty { stiffness, .. } => stiffness,
             ContactResponse::Projection { .. } => 0.0,
         }
+    }
+
+    /// Add this collider's penalty force (N) on particles at `position`
+    /// (m) with `velocity` (m/s) at `time` (s) to `force`: a virtual spring
+    /// `k depth n` pushing each particle inside out, with damping on its
+    /// normal velocity relative to the surface and regularised Coulomb
+    /// friction; nothing for the projection form (docs/physics.md §5).
+    pub fn penalty_force(
+        &self,
+        time: Real,
+        position: &[Vec3],
+        velocity: &[Vec3],
+        force: &mut [Vec3],
+    ) {
+        penalty_force(self, time, position, velocity, force);
     }
 
     /// Elastic energy `Σ ½ k_c depth²` stored in the penalty springs of

@@ -80,7 +80,8 @@
 //! a particle that crossed within a step is pushed back, not on through.
 //! Edges meet edges where a surface is open or collides with itself.
 
-pub mod geometry;
+pub(crate) mod geometry;
+#[doc(hidden)]
 pub mod grid;
 pub mod inside;
 
@@ -93,9 +94,12 @@ mod pairs;
 mod rigid_friction;
 mod state;
 
-pub use detect::{pair_limit, TooManyPairs, MIN_PAIR_LIMIT, PAIRS_PER_ELEMENT};
+pub(crate) use detect::TooManyPairs;
+pub use detect::{pair_limit, MIN_PAIR_LIMIT, PAIRS_PER_ELEMENT};
 pub use force::BodyContacts;
-pub use pairs::{ContactPairs, EdgeEdge, PointElement, PointPoint, PointSegment, PointTriangle};
+pub(crate) use pairs::{
+    ContactPairs, EdgeEdge, PointElement, PointPoint, PointSegment, PointTriangle,
+};
 pub(crate) use rigid_friction::RigidParts;
 
 use crate::error::BuildError;
@@ -297,8 +301,18 @@ pub struct Contacts {
     /// How bodies touch.
     pub settings: ContactSettings,
     /// The candidate pairs found by the last detect stage.
-    pub pairs: ContactPairs,
+    pub(crate) pairs: ContactPairs,
     scratch: detect::Scratch,
     found: detect::Found,
     links: links::Links,
+}
+
+impl Contacts {
+    /// The number of candidate contact pairs the last detect stage kept
+    /// (pairs of elements within the thickness plus the margin of the
+    /// step's motion; [`crate::World::active_contacts`] counts those
+    /// touching).
+    pub fn candidate_pairs(&self) -> usize {
+        self.pairs.len()
+    }
 }

@@ -59,7 +59,9 @@ pub(crate) use jacobian::NormalPush;
 pub use list::ForceList;
 pub use mouse::MouseSpring;
 pub use pressure::{pressure, GasPressure};
-pub use spring::{pulls_alone, spring_energy, SpringForce};
+#[doc(hidden)]
+pub use spring::pulls_alone;
+pub use spring::{spring_energy, SpringForce};
 pub use wind::{Wind, WindModel, AIR_DENSITY};
 pub use wind_field::{Gusts, Turbulence, WindField};
 

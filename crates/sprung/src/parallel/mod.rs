@@ -27,10 +27,7 @@ use rayon::prelude::*;
 
 use crate::Real;
 
-pub use schedule::{
-    scatter_in_order, Block, Elements, Schedule, ScheduleCache, Writer, COLOUR_BLOCK, COLOUR_PIECE,
-    MAX_RUN, MIN_BLOCKS,
-};
+pub(crate) use schedule::{scatter_in_order, Block, Elements, Schedule, ScheduleCache, Writer};
 
 /// The number of elements a thread takes at a time, and the chunk of the
 /// fixed-order sums.
@@ -196,6 +193,7 @@ pub fn threads() -> usize {
 /// at multiples of it and added pairwise in a tree that depends on `len`
 /// only: the same bits whatever the number of threads, and nothing
 /// allocated.
+#[doc(hidden)]
 pub fn sum(len: usize, f: impl Fn(Range<usize>) -> Real + Sync) -> Real {
     fn run(range: Range<usize>, f: &(impl Fn(Range<usize>) -> Real + Sync)) -> Real {
         let len = range.len();
@@ -212,7 +210,7 @@ pub fn sum(len: usize, f: impl Fn(Range<usize>) -> Real + Sync) -> Real {
 
 /// `max f(chunk)` over the chunks of `0..len`, in parallel (0 for none; a
 /// maximum does not depend on the order it is taken in).
-pub fn max(len: usize, f: impl Fn(Range<usize>) -> Real + Sync) -> Real {
+pub(crate) fn max(len: usize, f: impl Fn(Range<usize>) -> Real + Sync) -> Real {
     if len <= CHUNK {
         return f(0..len).max(0.0);
     }
@@ -225,7 +223,7 @@ pub fn max(len: usize, f: impl Fn(Range<usize>) -> Real + Sync) -> Real {
 /// `f(chunk)` over the chunks of `0..len`, in parallel, combined by
 /// `merge` from `empty` (which must not depend on the order it is taken
 /// in: a maximum, a bounding box), so the same whatever the threads.
-pub fn merge_chunks<T: Send + Sync + Clone>(
+pub(crate) fn merge_chunks<T: Send + Sync + Clone>(
     len: usize,
     empty: T,
     f: impl Fn(Range<usize>) -> T + Sync,
@@ -242,7 +240,7 @@ pub fn merge_chunks<T: Send + Sync + Clone>(
 
 /// The lowest `i < len` for which `f(i)` is something, with it: the same
 /// one whatever the number of threads.
-pub fn find_first<T: Send>(
+pub(crate) fn find_first<T: Send>(
     len: usize,
     f: impl Fn(usize) -> Option<T> + Sync,
 ) -> Option<(usize, T)> {
@@ -258,7 +256,7 @@ pub fn find_first<T: Send>(
 /// The size of the pieces [`collect_chunks`] should cut `0..len` into:
 /// `chunk`, or all of it (one piece, on the calling thread) up to [`CHUNK`]
 /// indices, where sharing the work costs more than it saves.
-pub fn piece_size(len: usize, chunk: usize) -> usize {
+pub(crate) fn piece_size(len: usize, chunk: usize) -> usize {
     if len <= CHUNK {
         len.max(1)
     } else {
@@ -273,7 +271,7 @@ pub fn piece_size(len: usize, chunk: usize) -> usize {
 /// threads. The buffers are kept for the next call, so once they have
 /// grown nothing is allocated. Buffers past the last piece are left empty.
 /// One piece runs on the calling thread (see [`piece_size`]).
-pub fn collect_chunks<T: Send>(
+pub(crate) fn collect_chunks<T: Send>(
     len: usize,
     chunk: usize,
     buffers: &mut Vec<Vec<T>>,
@@ -301,7 +299,7 @@ pub fn collect_chunks<T: Send>(
 /// the items' order, the same bits whatever the number of threads. With
 /// one thread, or at most [`CHUNK`] entries, one share on the calling
 /// thread.
-pub fn for_each_share<T: Send>(out: &mut [T], f: impl Fn(usize, &mut [T]) + Sync) {
+pub(crate) fn for_each_share<T: Send>(out: &mut [T], f: impl Fn(usize, &mut [T]) + Sync) {
     let threads = threads();
     if threads <= 1 || out.len() <= CHUNK {
         f(0, out);
@@ -320,7 +318,7 @@ pub fn for_each_share<T: Send>(out: &mut [T], f: impl Fn(usize, &mut [T]) + Sync
 /// that starts at a cut (the friction's groups of particles): each window
 /// lies in one share. With one thread, or at most [`CHUNK`] entries, one
 /// share on the calling thread.
-pub fn for_each_aligned_share<S: SplitMut>(
+pub(crate) fn for_each_aligned_share<S: SplitMut>(
     slices: S,
     align: usize,
     offset: usize,
@@ -368,6 +366,7 @@ pub fn for_each_aligned_share<S: SplitMut>(
 /// Slices of equal length (one, or a tuple of them) that can be cut at an
 /// index into two sets of slices; [`for_each_span`] hands the pieces to
 /// threads.
+#[doc(hidden)]
 pub trait SplitMut: Sized + Send {
     /// Length of the slices (the shortest, for a tuple).
     fn len(&self) -> usize;
@@ -427,7 +426,7 @@ split_mut_tuple!(A, B, C, D, E);
 /// its own entries only, so the result does not depend on the threads.
 /// The ranges must follow each other without overlapping, within `out`;
 /// when they do not, nothing is called and `false` is returned.
-pub fn for_each_range<T: Send>(
+pub(crate) fn for_each_range<T: Send>(
     out: &mut [T],
     count: usize,
     range: impl Fn(usize) -> Range<usize> + Sync,
@@ -470,6 +469,7 @@ pub fn for_each_range<T: Send>(
 /// entries, cut at multiples of it), in parallel; `start` is the index of
 /// the piece's first entry. A loop over particles that writes each
 /// particle's own entries: the result does not depend on the threads.
+#[doc(hidden)]
 pub fn for_each_span<S: SplitMut>(slices: S, f: impl Fn(usize, S) + Sync) {
     fn run<S: SplitMut>(slices: S, start: usize, f: &(impl Fn(usize, S) + Sync)) {
         let len = slices.len();

@@ -62,16 +62,13 @@ pub struct Schedule<const W: usize> {
     /// shortest slice the blocks may add into.
     reach: usize,
     /// Per element in schedule order, how many elements from it on (itself
-    /// included, within its block, at most [`MAX_RUN`]) form a *run*: each
+    /// included, within its block, at most 255: a run length is a `u8`) form a *run*: each
     /// one's particles and own index one more than the last's.
     run: Vec<u8>,
     /// Cut by colouring single elements: the numbering of the particles
     /// has no locality at all.
     singles: bool,
 }
-
-/// The longest run [`Block::run`] reports.
-pub const MAX_RUN: usize = u8::MAX as usize;
 
 /// Elements per block of a colour: a colour of a mesh of some ten
 /// thousand vertices holds a few thousand elements, cut small enough to
@@ -115,6 +112,7 @@ impl<const W: usize> Schedule<W> {
     }
 
     /// True when there are no elements.
+    #[cfg(test)]
     pub fn is_empty(&self) -> bool {
         self.members.is_empty()
     }

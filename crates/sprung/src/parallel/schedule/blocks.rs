@@ -96,11 +96,6 @@ impl<T: Copy + AddAssign, const W: usize> Block<'_, T, W> {
         self.members.len()
     }
 
-    /// True when the block has no elements.
-    pub fn is_empty(&self) -> bool {
-        self.members.is_empty()
-    }
-
     /// Ask the processor to bring the schedule's entries for the block's
     /// `e`-th element (its particle indices, run length and own index)
     /// into the cache ahead of their use; nothing past the block.
@@ -131,7 +126,7 @@ impl<T: Copy + AddAssign, const W: usize> Block<'_, T, W> {
     }
 
     /// How many of the block's elements from its `e`-th on (at most
-    /// [`MAX_RUN`](super::MAX_RUN)) form a run: each one's particles, and
+    /// 255) form a run: each one's particles, and
     /// its index among all the elements, one more than the last's.
     pub fn run(&self, e: usize) -> usize {
         usize::from(self.run[e])
