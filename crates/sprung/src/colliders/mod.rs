@@ -163,7 +163,7 @@ pub enum ContactResponse {
     },
     /// A virtual spring `f = k (depth) n - c ((v - u)·n) n` while inside,
     /// `u` the surface velocity, with regularised Coulomb friction along the
-    /// surface (see [`penalty_force`]).
+    /// surface (see [`Collider::penalty_force`]).
     Penalty {
         /// Penalty stiffness `k_c` (N/m).
         stiffness: Real,

@@ -37,7 +37,7 @@
 //! before integrating: a uniform grid ([`grid`]) finds, in time linear in
 //! the number of elements, every pair of elements within the thickness
 //! plus a margin covering the step's motion (the *reach*), and keeps them
-//! as candidate pairs ([`ContactPairs`]): a pair is a candidate when it
+//! as candidate pairs (`ContactPairs`): a pair is a candidate when it
 //! would touch if the thickness were the reach. (A particle that got
 //! through a closed surface, behind an element but not over its inside,
 //! is no candidate of that element: if it then slides over that

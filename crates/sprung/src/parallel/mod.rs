@@ -12,7 +12,7 @@
 //!   then the pieces' sums pairwise in a tree fixed by the length ([`sum`]),
 //!   so its rounding is that of the length, not of the threads;
 //! - forces of elements that share particles (springs, faces) are added
-//!   block by block ([`Schedule`]): blocks of neighbouring particles that
+//!   block by block (`Schedule`): blocks of neighbouring particles that
 //!   share none run at once, so each particle receives its contributions
 //!   in the same order whatever thread computes them.
 //!

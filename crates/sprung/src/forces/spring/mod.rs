@@ -36,7 +36,7 @@ use crate::{Real, Vec3};
 /// with its Jacobians cached at the last linearisation.
 ///
 /// The springs are added in blocks of neighbouring particles
-/// ([`Schedule`]), blocks that share no particle in parallel: every particle
+/// (`Schedule`), blocks that share no particle in parallel: every particle
 /// receives its springs' forces in the same order whatever the number of
 /// threads. The schedule is made again whenever the springs' endpoints
 /// change (a spring added or moved: a new [`Springs::topology`]).
