@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The test command of sprung (the README's, and what .ci/run calls): set up
-# what the tests need, build the web viewer, then run every test of the
-# workspace, the viewer's tests in a real browser and a real X server
-# included.
+# what the tests need, build the web viewer, run every test of the
+# workspace (the doc examples and the viewer's tests in a real browser and
+# a real X server included), then run every example program of the engine
+# (crates/sprung/examples/*.rs, in the dev profile the tests build in,
+# each given a temporary folder for its files): it fails if one fails.
 #
 #   scripts/test.sh                 everything
 #   scripts/test.sh -- NAME         extra arguments go to `cargo test --workspace`
@@ -51,3 +53,13 @@ scripts/build-web.sh
 
 echo "== cargo test --workspace"
 cargo test --workspace "$@"
+
+# The examples take an output folder as their argument where they write
+# files (flag.rs); the others ignore it.
+examples_out=$(mktemp -d)
+trap 'rm -rf "$examples_out"' EXIT
+for example in crates/sprung/examples/*.rs; do
+  name=$(basename "$example" .rs)
+  echo "== cargo run -p sprung --example $name"
+  cargo run -q -p sprung --example "$name" -- "$examples_out/$name"
+done

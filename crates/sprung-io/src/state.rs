@@ -119,6 +119,43 @@ pub fn fingerprint(world: &World) -> u32 {
 
 /// Write `state`, saved from `world`, to `path`, atomically: the file is
 /// complete or not there (an older one stays until the new one is whole).
+///
+/// Stop a run, and go on with it later exactly as if it had not stopped:
+///
+/// ```
+/// use sprung::{build, IntegratorKind, World};
+/// use sprung_io::state::{read_state, restore, write_state, StateFileError};
+///
+/// let path = std::env::temp_dir().join(format!("sprung-doc-state-{}.state", std::process::id()));
+/// let world = || {
+///     let mut world = World::new(IntegratorKind::Verlet);
+///     world.add_body("rope", build::rope(5, 1.0).unwrap().with_stiffness(200.0)).unwrap();
+///     world
+/// };
+/// let mut first = world();
+/// for _ in 0..100 {
+///     first.step(1e-3).unwrap();
+/// }
+/// write_state(&path, &first, &first.save_state()).unwrap();
+///
+/// // Later: the same scene built afresh, the state put back.
+/// let mut second = world();
+/// let state = read_state(&path, &second).unwrap();
+/// restore(&path, &mut second, &state).unwrap();
+/// assert_eq!((second.steps(), second.time()), (first.steps(), first.time()));
+/// for _ in 0..100 {
+///     first.step(1e-3).unwrap();
+///     second.step(1e-3).unwrap();
+/// }
+/// assert_eq!(first.particles.position, second.particles.position); // bit for bit
+///
+/// // A state is refused for a world of another structure.
+/// let mut other = World::new(IntegratorKind::Verlet);
+/// other.add_body("rope", build::rope(6, 1.0).unwrap()).unwrap();
+/// let error = read_state(&path, &other).unwrap_err();
+/// assert!(matches!(error, StateFileError::Foreign { .. }), "{error}");
+/// std::fs::remove_file(&path).unwrap();
+/// ```
 pub fn write_state(path: &Path, world: &World, state: &WorldState) -> Result<(), StateFileError> {
     let mut bytes = Vec::new();
     bytes.extend_from_slice(MAGIC);

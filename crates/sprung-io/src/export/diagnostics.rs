@@ -12,6 +12,39 @@ use super::AtomicFile;
 
 /// The diagnostics table of a run, written row by row and committed at the
 /// end (a run that blew up commits the rows it recorded before, all finite).
+///
+/// A rope's table, with its free end probed:
+///
+/// ```
+/// use sprung::{build, IntegratorKind, World};
+/// use sprung_io::export::Diagnostics;
+///
+/// let dir = std::env::temp_dir().join(format!("sprung-doc-diagnostics-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let mut world = World::new(IntegratorKind::Verlet);
+/// world.add_body("rope", build::rope(4, 1.0).unwrap().with_stiffness(100.0)).unwrap();
+///
+/// let path = dir.join("diagnostics.csv");
+/// let mut table = Diagnostics::create(&path, &world, &[3]).unwrap();
+/// for _ in 0..10 {
+///     table.record(&world).unwrap();
+///     world.step(1e-3).unwrap();
+/// }
+/// assert_eq!(table.rows(), 10);
+/// assert!(!path.exists()); // written under `diagnostics.csv.partial` until finished
+/// table.finish().unwrap();
+///
+/// let text = std::fs::read_to_string(&path).unwrap();
+/// let mut lines = text.lines();
+/// let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+/// assert_eq!(header[..5], ["step", "time", "kinetic", "spring", "gravity"]);
+/// assert!(header.contains(&"rope.cy"));
+/// assert_eq!(header[header.len() - 3..], ["p3.x", "p3.y", "p3.z"]);
+/// let last: Vec<&str> = lines.last().unwrap().split(',').collect();
+/// assert_eq!(last[0], "9"); // the step
+/// assert!((last[1].parse::<f64>().unwrap() - 9e-3).abs() < 1e-15); // the time (s)
+/// std::fs::remove_dir_all(&dir).unwrap();
+/// ```
 #[derive(Debug)]
 pub struct Diagnostics {
     file: AtomicFile,

@@ -111,6 +111,42 @@ pub fn frame_path(dir: &Path, index: usize, format: FrameFormat) -> PathBuf {
 }
 
 /// Write the world's current state as frame `index` in `dir`, atomically.
+/// The folder must exist.
+///
+/// A cloth's frames, the last read back:
+///
+/// ```
+/// use sprung::{build, IntegratorKind, World};
+/// use sprung_io::export::{read_vtk_frame, series_path, write_frame, write_series, FrameFormat};
+///
+/// let dir = std::env::temp_dir().join(format!("sprung-doc-frames-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let cloth = build::cloth(4, 3, 1.0, 1.0, Default::default()).unwrap().with_stiffness(100.0);
+/// let mut world = World::new(IntegratorKind::SymplecticEuler);
+/// world.add_body("cloth", cloth).unwrap();
+///
+/// let mut times = Vec::new();
+/// for index in 0..3 {
+///     let path = write_frame(&dir, index, &world, FrameFormat::Vtu).unwrap();
+///     assert_eq!(path, dir.join(format!("frame_00000{index}.vtu")));
+///     times.push(world.time());
+///     world.step(1e-3).unwrap();
+/// }
+/// write_series(&dir, FrameFormat::Vtu, &world, &times).unwrap();
+/// assert!(series_path(&dir, FrameFormat::Vtu).unwrap().is_file()); // frames.pvd
+///
+/// let text = std::fs::read_to_string(dir.join("frame_000002.vtu")).unwrap();
+/// let frame = read_vtk_frame(&text, "frame_000002.vtu".as_ref()).unwrap();
+/// assert_eq!(frame.step, Some(2));
+/// assert_eq!(frame.points.len(), 12);
+/// assert_eq!(frame.polygons.len(), 12); // two triangles a cell
+///
+/// // OBJ, for Blender: a vertex line per particle.
+/// let obj = write_frame(&dir, 3, &world, FrameFormat::Obj).unwrap();
+/// let text = std::fs::read_to_string(obj).unwrap();
+/// assert_eq!(text.lines().filter(|l| l.starts_with("v ")).count(), 12);
+/// std::fs::remove_dir_all(&dir).unwrap();
+/// ```
 pub fn write_frame(
     dir: &Path,
     index: usize,

@@ -31,6 +31,45 @@ use super::TriangleMesh;
 ///
 /// Positions are in the file's units. `file` is used in error messages; its
 /// stem names faces that precede any `o`/`g` line.
+///
+/// A tetrahedron from OBJ text, checked closed and turned outward (one of
+/// its faces is wound inward), then made a gas body of the engine:
+///
+/// ```
+/// use std::path::Path;
+/// use sprung::{build, Gas, Vec3};
+/// use sprung_io::mesh::{closed_surface, parse_obj, signed_volume};
+///
+/// let text = "\
+/// o tet
+/// v 0 0 0
+/// v 1 0 0
+/// v 0 1 0
+/// v 0 0 1
+/// f 1 3 2
+/// f 1 2 4
+/// f 1 4 3
+/// f 2 4 3  # wound inward
+/// ";
+/// let file = Path::new("tet.obj");
+/// let meshes = parse_obj(text, file).unwrap();
+/// assert_eq!(meshes.len(), 1);
+/// assert_eq!(meshes[0].name, "tet");
+/// assert_eq!((meshes[0].positions.len(), meshes[0].triangles.len()), (4, 4));
+///
+/// let mesh = closed_surface(&meshes[0], file).unwrap();
+/// assert!((signed_volume(&mesh.positions, &mesh.triangles) - 1.0 / 6.0).abs() < 1e-12);
+///
+/// let position = mesh.positions.iter().map(|&p| Vec3::from_array(p)).collect();
+/// let mut body = build::surface(position, mesh.triangles, Default::default()).unwrap();
+/// body.gas = Some(Gas::new(1.0, 0.0));
+/// assert!(body.is_closed());
+///
+/// // A face naming a vertex the file lacks is refused at its line.
+/// let error = parse_obj("v 0 0 0\nv 1 0 0\nf 1 2 7\n", file).unwrap_err();
+/// assert_eq!(error.line, Some(3));
+/// assert!(error.to_string().starts_with("tet.obj:3: "), "{error}");
+/// ```
 pub fn parse_obj(text: &str, file: &Path) -> Result<Vec<TriangleMesh>, MeshError> {
     require_content(text, file)?;
     let (geometry, faces) =

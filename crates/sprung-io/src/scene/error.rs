@@ -5,6 +5,35 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 /// A scene file that cannot be read or built.
+///
+/// It names the file, the line and the key, in the words of the file:
+///
+/// ```
+/// use std::path::Path;
+///
+/// let text = r#"
+/// [sim]
+/// dt = 1e-3
+/// steps = 10
+///
+/// [[body]]
+/// name = "rope"
+/// rope = { particles = 1, length = 1.0 }
+/// "#;
+/// let error = sprung_io::parse_scene(text, Path::new("rope.toml")).unwrap_err();
+/// assert_eq!(error.file, Path::new("rope.toml"));
+/// assert_eq!(error.line, Some(8));
+/// assert_eq!(
+///     error.to_string(),
+///     "rope.toml:8: body \"rope\": `rope.particles` = 1: a rope needs at least 2 particles"
+/// );
+///
+/// // An unknown key is refused with its name, at its line.
+/// let typo = text.replace("steps = 10", "steps = 10\ntimestep = 3");
+/// let error = sprung_io::parse_scene(&typo, Path::new("rope.toml")).unwrap_err();
+/// assert_eq!(error.line, Some(5));
+/// assert!(error.message.starts_with("unknown field `timestep`, expected one of `dt`, "));
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneError {
     /// The scene file.

@@ -81,6 +81,32 @@ pub struct SceneCamera {
 }
 
 /// Read and build the scene file at `path`.
+///
+/// ```
+/// let path = std::env::temp_dir().join(format!("sprung-doc-scene-{}.toml", std::process::id()));
+/// let text = r#"
+/// [sim]
+/// dt = 2e-3
+/// steps = 50
+///
+/// [[body]]
+/// name = "rope"
+/// rope = { particles = 8, length = 1.0 }
+/// stiffness = 100.0
+/// "#;
+/// std::fs::write(&path, text).unwrap();
+/// let mut scene = sprung_io::load_scene(&path).unwrap();
+/// assert_eq!((scene.dt, scene.steps, scene.world.particles.len()), (2e-3, 50, 8));
+/// for _ in 0..scene.steps {
+///     scene.world.step(scene.dt).unwrap();
+/// }
+/// assert!(scene.world.particles.position[7].y < -1.0); // stretched under gravity
+///
+/// // A missing file is an error naming it.
+/// std::fs::remove_file(&path).unwrap();
+/// let error = sprung_io::load_scene(&path).unwrap_err();
+/// assert!(error.to_string().contains("cannot read the scene file"), "{error}");
+/// ```
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
     let bytes = crate::input::read_input(path, crate::input::DEFAULT_MAX_SCENE_BYTES)
         .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
@@ -125,6 +151,38 @@ impl FileSource for Disk {
 
 /// Build a scene from its TOML `text`; `path` names it in errors and anchors
 /// relative paths; mesh files come from the disk.
+///
+/// A cloth hanging from two corners, from a string:
+///
+/// ```
+/// use std::path::Path;
+///
+/// let text = r#"
+/// [sim]
+/// dt = 1e-3
+/// duration = 0.5
+/// integrator = "verlet"
+///
+/// [[body]]
+/// name = "cloth"
+/// cloth = { nx = 5, ny = 4, width = 1.0, height = 0.75 }
+/// total_mass = 0.2
+/// stiffness = 300.0
+/// pinned = [15, 19]
+/// "#;
+/// let mut scene = sprung_io::parse_scene(text, Path::new("cloth.toml")).unwrap();
+/// assert_eq!(scene.dt, 1e-3);
+/// assert_eq!(scene.steps, 500);
+/// assert_eq!(scene.world.particles.len(), 20);
+/// assert_eq!(scene.world.body("cloth").unwrap().particles, 0..20);
+/// assert_eq!(scene.world.integrator(), sprung::IntegratorKind::Verlet);
+/// for _ in 0..scene.steps {
+///     scene.world.step(scene.dt).unwrap();
+/// }
+/// // The pinned corners held; the free ones fell.
+/// assert_eq!(scene.world.particles.position[15].y, 0.75);
+/// assert!(scene.world.particles.position[0].y < 0.0);
+/// ```
 pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, SceneError> {
     parse_scene_with(text, path, &Disk)
 }
