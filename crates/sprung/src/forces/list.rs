@@ -32,7 +32,9 @@ use crate::Vec3;
 /// world.forces.get_mut::<Gravity>().unwrap().acceleration.y = -1.62;
 /// assert_eq!(world.gravity(), Vec3::new(0.0, -1.62, 0.0));
 /// // Two hands at once: `push` keeps both.
-/// let hand = |particle| MouseSpring { particle, target: Vec3::ZERO, stiffness: 1.0, damping: 0.0 };
+/// let hand = |particle| {
+///     MouseSpring { particle, target: Vec3::ZERO, stiffness: 1.0, damping: 0.0 }
+/// };
 /// world.forces.push(Box::new(hand(0)));
 /// world.forces.push(Box::new(hand(1)));
 /// assert_eq!(world.forces.len(), built_in + 3);

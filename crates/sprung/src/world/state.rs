@@ -99,10 +99,8 @@ impl World {
     /// long.add_body("rope", build::rope(5, 1.0).unwrap()).unwrap();
     /// let error = long.restore_state(&short.save_state()).unwrap_err();
     /// assert!(matches!(error, StateError::Length { expected: 15, found: 12, .. }));
-    /// assert_eq!(
-    ///     error.to_string(),
-    ///     "the state's `position` has 12 numbers where this world needs 15 (a state from another scene?)"
-    /// );
+    /// let message = error.to_string();
+    /// assert!(message.contains("`position` has 12 numbers where this world needs 15"));
     /// assert_eq!(long.particles.position[4].y, -1.0);
     /// ```
     pub fn restore_state(&mut self, state: &WorldState) -> Result<(), StateError> {
