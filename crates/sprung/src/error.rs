@@ -343,6 +343,27 @@ pub enum SolverError {
 }
 
 /// Why a step could not be taken, or why the run must stop.
+///
+/// Explicit Euler multiplies an oscillation's amplitude by `√(1 + ω² dt²)`
+/// each step: at a hundred times the stable step `2 / ω_max`, the fastest
+/// mode grows some 200-fold a step until a particle runs past the world's
+/// limits, and the error says which, and what the stable step would be:
+///
+/// ```
+/// use sprung::{build, IntegratorKind, StepError, World};
+///
+/// let mut world = World::new(IntegratorKind::Euler);
+/// world.add_body("rope", build::rope(4, 1.0).unwrap().with_stiffness(1e4)).unwrap();
+/// let stable = world.stable_time_step();
+/// let dt = 100.0 * stable;
+/// let error = (0..100).find_map(|_| world.step(dt).err()).expect("a blow-up");
+/// let StepError::BlowUp { dt: used, stable_dt, ref body, .. } = error else {
+///     panic!("{error}");
+/// };
+/// assert_eq!((used, stable_dt), (dt, stable));
+/// assert!(body.starts_with("body \"rope\""));
+/// assert!(error.to_string().contains("is too large for these springs and masses"));
+/// ```
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum StepError {
     /// Solver settings out of range (`World::settings.solver`).

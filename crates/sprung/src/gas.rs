@@ -94,6 +94,18 @@ pub struct Gas {
 
 impl Gas {
     /// A gas that ramps to `nrt` (J) over `ramp_time` (s) and stays there.
+    ///
+    /// ```
+    /// use sprung::Gas;
+    ///
+    /// let gas = Gas::new(200.0, 0.5);
+    /// assert_eq!(gas.nrt_at(0.0), 0.0);
+    /// assert_eq!(gas.nrt_at(0.25), 100.0); // halfway up the ramp
+    /// assert_eq!(gas.nrt_at(10.0), 200.0);
+    /// // A leak from t = 1 s at 0.1/s: e⁻¹ of it left 10 s later.
+    /// let leaking = Gas { leak_rate: 0.1, leak_start: 1.0, ..gas };
+    /// assert_eq!(leaking.nrt_at(11.0), 200.0 * (-1.0_f64).exp());
+    /// ```
     pub fn new(nrt: Real, ramp_time: Real) -> Self {
         Gas {
             nrt,

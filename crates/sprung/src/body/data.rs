@@ -30,6 +30,17 @@ pub struct SpringData {
 impl SpringData {
     /// A spring between `first` and `second` at its creation length, with
     /// zero stiffness and damping (set them with the body's `with_*`).
+    ///
+    /// ```
+    /// use sprung::{BodyData, SpringData, Vec3};
+    ///
+    /// let mut body = BodyData::from_positions(vec![Vec3::ZERO, Vec3::new(3.0, 4.0, 0.0)]);
+    /// body.springs.push(SpringData::between(0, 1));
+    /// assert_eq!(body.rest_length(&body.springs[0]), 5.0); // the distance at creation
+    /// assert_eq!((body.springs[0].stiffness, body.springs[0].damping), (0.0, 0.0));
+    /// body.springs[0].rest_length = Some(4.0); // pre-stretched
+    /// assert_eq!(body.rest_length(&body.springs[0]), 4.0);
+    /// ```
     pub fn between(first: usize, second: usize) -> Self {
         SpringData {
             first,
@@ -217,6 +228,16 @@ impl Default for BodyContact {
 impl BodyData {
     /// A body with particles at `position` (m), each of mass 1 kg, at rest,
     /// with no springs.
+    ///
+    /// ```
+    /// use sprung::{BodyData, Vec3};
+    ///
+    /// let body = BodyData::from_positions(vec![Vec3::ZERO, Vec3::X]);
+    /// assert_eq!(body.particle_count(), 2);
+    /// assert_eq!(body.mass, [1.0, 1.0]);
+    /// assert!(body.velocity.is_empty() && body.springs.is_empty() && body.pinned.is_empty());
+    /// assert_eq!(body.validate(), Ok(()));
+    /// ```
     pub fn from_positions(position: Vec<Vec3>) -> Self {
         let mass = vec![1.0; position.len()];
         BodyData {
@@ -232,18 +253,47 @@ impl BodyData {
     }
 
     /// Give every particle the mass `mass` (kg).
+    ///
+    /// ```
+    /// use sprung::{BodyData, Vec3};
+    ///
+    /// let body = BodyData::from_positions(vec![Vec3::ZERO, Vec3::X, Vec3::Y]).with_mass(0.5);
+    /// assert_eq!(body.mass, [0.5; 3]);
+    /// ```
     pub fn with_mass(mut self, mass: Real) -> Self {
         self.mass = vec![mass; self.position.len()];
         self
     }
 
     /// Share `total_mass` (kg) equally among the particles.
+    ///
+    /// ```
+    /// use sprung::build;
+    ///
+    /// let rope = build::rope(8, 1.0).unwrap().with_total_mass(2.0);
+    /// assert_eq!(rope.mass, [0.25; 8]);
+    /// ```
     pub fn with_total_mass(self, total_mass: Real) -> Self {
         let count = self.position.len().max(1) as Real;
         self.with_mass(total_mass / count)
     }
 
     /// Give every spring the stiffness `stiffness` (N/m).
+    ///
+    /// A spring of `k = 300 N/m` stretched by 1/8 m stores `½ k (1/8)²`
+    /// (exact: binary fractions throughout):
+    ///
+    /// ```
+    /// use sprung::{build, IntegratorKind, Vec3, World};
+    ///
+    /// let rope = build::rope(3, 1.0).unwrap().with_stiffness(300.0).with_damping(2.0);
+    /// assert!(rope.springs.iter().all(|s| s.stiffness == 300.0 && s.damping == 2.0));
+    /// let mut world = World::new(IntegratorKind::Verlet);
+    /// world.set_gravity(Vec3::ZERO);
+    /// world.add_body("rope", rope).unwrap();
+    /// world.particles.position[2].y -= 0.125; // the last spring: 0.5 m to 0.625 m
+    /// assert_eq!(world.energies().get("spring"), Some(0.5 * 300.0 * 0.125 * 0.125));
+    /// ```
     pub fn with_stiffness(mut self, stiffness: Real) -> Self {
         self.springs
             .iter_mut()
@@ -316,6 +366,25 @@ impl BodyData {
     }
 
     /// Pin the particles at `indices`.
+    ///
+    /// A cloth hung by its two top corners: they stay put, the rest falls:
+    ///
+    /// ```
+    /// use sprung::build::{self, ClothSprings};
+    /// use sprung::{IntegratorKind, Vec3, World};
+    ///
+    /// let cloth = build::cloth(3, 3, 1.0, 1.0, ClothSprings::default()).unwrap();
+    /// let cloth = cloth.with_stiffness(100.0).with_pinned(vec![6, 8]); // (0, 2), (2, 2)
+    /// let mut world = World::new(IntegratorKind::SymplecticEuler);
+    /// world.add_body("cloth", cloth).unwrap();
+    /// for _ in 0..100 {
+    ///     world.step(1e-3).unwrap();
+    /// }
+    /// assert!(world.particles.is_pinned(6));
+    /// assert_eq!(world.particles.position[6], Vec3::new(0.0, 1.0, 0.0));
+    /// assert_eq!(world.particles.position[8], Vec3::new(1.0, 1.0, 0.0));
+    /// assert!(world.particles.position[0].y < 0.0);
+    /// ```
     pub fn with_pinned(mut self, indices: Vec<usize>) -> Self {
         self.pinned = indices;
         self
@@ -331,6 +400,21 @@ impl BodyData {
     /// rotate by `rotate_degrees` about x, then y, then z, then translate
     /// by `translate` (m). Explicit rest lengths scale too; velocities turn
     /// with the rotation.
+    ///
+    /// Scaled twice, turned a quarter turn about z, moved 5 m along x:
+    ///
+    /// ```
+    /// use sprung::{BodyData, SpringData, Vec3};
+    ///
+    /// let mut body = BodyData::from_positions(vec![Vec3::ZERO, Vec3::X]).with_velocity(Vec3::X);
+    /// body.springs = vec![SpringData { rest_length: Some(0.8), ..SpringData::between(0, 1) }];
+    /// let body = body.placed(2.0, Vec3::new(0.0, 0.0, 90.0), Vec3::new(5.0, 0.0, 0.0));
+    /// assert_eq!(body.position[0], Vec3::new(5.0, 0.0, 0.0));
+    /// // cos 90° is not exactly 0 in floating point: a rounding off.
+    /// assert!(body.position[1].distance(Vec3::new(5.0, 2.0, 0.0)) < 1e-15);
+    /// assert!(body.velocity[1].distance(Vec3::Y) < 1e-15); // turned, not scaled
+    /// assert_eq!(body.springs[0].rest_length, Some(1.6));
+    /// ```
     pub fn placed(mut self, scale: Real, rotate_degrees: Vec3, translate: Vec3) -> Self {
         let rotation = glam::DQuat::from_rotation_z(rotate_degrees.z.to_radians())
             * glam::DQuat::from_rotation_y(rotate_degrees.y.to_radians())

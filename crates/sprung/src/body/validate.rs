@@ -20,6 +20,16 @@ pub const ROD_SEARCH_LIMIT: usize = 10_000_000;
 impl BodyData {
     /// Check everything a user could get wrong; the first problem found is
     /// returned, naming the scene key and index.
+    ///
+    /// ```
+    /// use sprung::{BodyData, BuildError, Vec3};
+    ///
+    /// let mut body = BodyData::from_positions(vec![Vec3::ZERO, Vec3::X]);
+    /// body.mass[1] = -2.0;
+    /// let error = body.validate().unwrap_err();
+    /// assert_eq!(error, BuildError::BadMass { field: "masses", index: 1, value: -2.0 });
+    /// assert_eq!(error.to_string(), "`masses`[1] = -2: mass must be positive and finite (kg)");
+    /// ```
     pub fn validate(&self) -> Result<(), BuildError> {
         let count = self.position.len();
         if count == 0 {

@@ -7,6 +7,17 @@ use crate::error::BuildError;
 use crate::{Real, Vec3};
 
 /// Which families of springs a cloth gets.
+///
+/// A plain grid, structural springs only, each as long as a cell's side:
+///
+/// ```
+/// use sprung::build::{self, ClothSprings};
+///
+/// let grid = ClothSprings { shear: false, bending: false, ..ClothSprings::default() };
+/// let cloth = build::cloth(5, 5, 1.0, 1.0, grid).unwrap();
+/// assert_eq!(cloth.springs.len(), 2 * 4 * 5);
+/// assert!(cloth.springs.iter().all(|s| cloth.rest_length(s) == 0.25));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ClothSprings {
     /// Springs to the 4 grid neighbours.
@@ -32,6 +43,27 @@ impl Default for ClothSprings {
 /// (m) in the xy-plane with its corner at the origin. Particle `(x, y)` has
 /// index `y * nx + x`. Each cell gives two triangles, counter-clockwise
 /// seen from +z.
+///
+/// # Examples
+///
+/// Structural springs join each particle to its 4 grid neighbours, shear
+/// springs cross each cell twice, bending springs skip one particle:
+///
+/// ```
+/// use sprung::build::{self, ClothSprings};
+/// use sprung::Vec3;
+///
+/// let (nx, ny) = (4, 3);
+/// let cloth = build::cloth(nx, ny, 3.0, 1.0, ClothSprings::default()).unwrap();
+/// assert_eq!(cloth.position[2 * nx + 1], Vec3::new(1.0, 1.0, 0.0)); // (x, y) = (1, 2)
+/// assert_eq!(cloth.faces.len(), 2 * (nx - 1) * (ny - 1));
+/// let structural = (nx - 1) * ny + nx * (ny - 1);
+/// let shear = 2 * (nx - 1) * (ny - 1);
+/// let bending = (nx - 2) * ny + nx * (ny - 2);
+/// assert_eq!(cloth.springs.len(), structural + shear + bending);
+/// let error = build::cloth(1, 3, 1.0, 1.0, ClothSprings::default()).unwrap_err();
+/// assert_eq!(error.to_string(), "`cloth.nx` = 1: a cloth needs at least 2 particles along x");
+/// ```
 pub fn cloth(
     nx: usize,
     ny: usize,

@@ -13,6 +13,26 @@ use crate::{Real, Vec3};
 /// apart, its corner at the origin. Particle `(x, y, z)` has index
 /// `(z * ny + y) * nx + x`. Each particle is joined to its 26 neighbours
 /// (13 springs per particle, each pair once).
+///
+/// # Examples
+///
+/// In a 2 × 2 × 2 lattice, every corner is a neighbour of every other: 28
+/// springs, the longest the cube's diagonal. Inside a 3 × 3 × 3 one, the
+/// centre particle has all 26 neighbours:
+///
+/// ```
+/// use sprung::build;
+///
+/// let cube = build::lattice(2, 2, 2, 0.1).unwrap();
+/// assert_eq!(cube.particle_count(), 8);
+/// assert_eq!(cube.springs.len(), 8 * 7 / 2);
+/// let longest = cube.springs.iter().map(|s| cube.rest_length(s)).fold(0.0, f64::max);
+/// assert!((longest - 0.1 * 3_f64.sqrt()).abs() < 1e-16); // to rounding
+/// let block = build::lattice(3, 3, 3, 0.1).unwrap();
+/// let centre = (1 * 3 + 1) * 3 + 1; // (x, y, z) = (1, 1, 1)
+/// let around = block.springs.iter().filter(|s| s.first == centre || s.second == centre);
+/// assert_eq!(around.count(), 26);
+/// ```
 pub fn lattice(nx: usize, ny: usize, nz: usize, spacing: Real) -> Result<BodyData, BuildError> {
     for (field, n) in [("lattice.nx", nx), ("lattice.ny", ny), ("lattice.nz", nz)] {
         check_count(

@@ -10,6 +10,24 @@ use crate::{Real, Vec3};
 /// centred on the origin in the xy-plane, counter-clockwise from +x; a
 /// spring joins each particle to the next, closing the loop, and the loop's
 /// segments bound the area a gas fills.
+///
+/// # Examples
+///
+/// The `N` sides of a ring of radius `r` are `2 r sin(π/N)` long, and the
+/// closed loop can hold a gas:
+///
+/// ```
+/// use sprung::{build, BodyData, Gas};
+///
+/// let ring = build::ring(12, 0.5).unwrap();
+/// assert_eq!((ring.segments.len(), ring.springs.len()), (12, 12));
+/// assert!(ring.is_closed());
+/// let side = 2.0 * 0.5 * (std::f64::consts::PI / 12.0).sin();
+/// // The positions come from cos and sin: rounded, a few ulps off.
+/// assert!(ring.springs.iter().all(|s| (ring.rest_length(s) - side).abs() < 1e-15));
+/// let balloon = BodyData { gas: Some(Gas::new(10.0, 0.5)), ..ring };
+/// assert_eq!(balloon.validate(), Ok(()));
+/// ```
 pub fn ring(particles: usize, radius: Real) -> Result<BodyData, BuildError> {
     check_count(
         "ring.particles",

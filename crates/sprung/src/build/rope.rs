@@ -10,6 +10,18 @@ use crate::{Real, Vec3};
 /// `length` (m) from the origin down along -y, with a spring between each
 /// pair of neighbours (parent above child, so one-sided springs pull the
 /// lower particle) and particle 0 pinned.
+///
+/// ```
+/// use sprung::{build, Vec3};
+///
+/// let rope = build::rope(5, 2.0).unwrap();
+/// assert_eq!(rope.particle_count(), 5);
+/// assert_eq!(rope.position[4], Vec3::new(0.0, -2.0, 0.0));
+/// assert_eq!(rope.pinned, [0]);
+/// assert_eq!(rope.springs.len(), 4);
+/// assert!(rope.springs.iter().all(|s| rope.rest_length(s) == 0.5));
+/// assert!(build::rope(1, 2.0).is_err()); // a rope needs two ends
+/// ```
 pub fn rope(particles: usize, length: Real) -> Result<BodyData, BuildError> {
     check_count(
         "rope.particles",

@@ -14,6 +14,27 @@ pub const MAX_SUBDIVISIONS: usize = 7;
 /// icosphere with `subdivisions` levels, faces counter-clockwise seen from
 /// outside, springs on every edge and, per `springs`, across every pair of
 /// adjacent triangles and to a centre particle.
+///
+/// # Examples
+///
+/// Each subdivision splits every triangle in four: `s` of them give
+/// `10 · 4ˢ + 2` vertices, `20 · 4ˢ` faces and `30 · 4ˢ` edges, and a
+/// bending spring across each edge doubles the springs:
+///
+/// ```
+/// use sprung::build::{self, SurfaceSprings};
+///
+/// for s in 0..3 {
+///     let sphere = build::icosphere(2.0, s, SurfaceSprings::default()).unwrap();
+///     let four = 4_usize.pow(s as u32);
+///     assert_eq!(sphere.particle_count(), 10 * four + 2);
+///     assert_eq!(sphere.faces.len(), 20 * four);
+///     assert_eq!(sphere.springs.len(), 2 * 30 * four);
+///     assert!(sphere.is_closed());
+///     // On the sphere, to the rounding of the normalised vertices.
+///     assert!(sphere.position.iter().all(|p| (p.length() - 2.0).abs() < 1e-15));
+/// }
+/// ```
 pub fn icosphere(
     radius: Real,
     subdivisions: usize,

@@ -11,6 +11,21 @@ use crate::surface::{bending_pairs, unique_edges};
 use crate::{Real, Vec3};
 
 /// Which springs a surface body gets besides one per edge.
+///
+/// A centre particle joined to every vertex, and no bending springs:
+///
+/// ```
+/// use sprung::build::{self, Internal, SurfaceSprings};
+///
+/// let shell = SurfaceSprings { bending: false, internal: Internal::None };
+/// let spoked = SurfaceSprings { bending: false, internal: Internal::Centre };
+/// let shell = build::icosphere(1.0, 1, shell).unwrap();
+/// let spoked = build::icosphere(1.0, 1, spoked).unwrap();
+/// assert_eq!(shell.springs.len(), 120); // one per edge
+/// assert_eq!(spoked.particle_count(), 42 + 1);
+/// assert_eq!(spoked.springs.len(), 120 + 42);
+/// assert!(spoked.position[42].length() < 1e-15); // the centre, to rounding
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfaceSprings {
     /// A spring across each pair of adjacent triangles, between the two
@@ -50,6 +65,26 @@ pub enum Internal {
 /// after the surface's and belong to no face. A pair of distinct vertices at the same place (real
 /// meshes have them: `UUSALKU.ASC`'s "Object" does) gets no spring, since a
 /// spring of zero rest length has no direction.
+///
+/// # Examples
+///
+/// A tetrahedron from its corners and outward triangles: a spring on each
+/// of its 6 edges (the vertices across an edge are joined by an edge
+/// already, so no bending spring), and the exact volume `1/6`:
+///
+/// ```
+/// use sprung::build::{self, SurfaceSprings};
+/// use sprung::{IntegratorKind, Vec3, World};
+///
+/// let corners = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+/// let faces = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+/// let tetrahedron = build::surface(corners, faces, SurfaceSprings::default()).unwrap();
+/// assert_eq!(tetrahedron.springs.len(), 6);
+/// assert!(tetrahedron.is_closed());
+/// let mut world = World::new(IntegratorKind::Verlet);
+/// let index = world.add_body("tetrahedron", tetrahedron).unwrap();
+/// assert_eq!(world.volume(index), Some(1.0 / 6.0));
+/// ```
 pub fn surface(
     position: Vec<Vec3>,
     faces: Vec<[usize; 3]>,

@@ -65,6 +65,16 @@ pub enum Shape {
 impl Shape {
     /// A plane through `point` (m) with outward `normal` (any length but
     /// zero; it is normalised).
+    ///
+    /// ```
+    /// use sprung::{BuildError, Shape, Vec3};
+    ///
+    /// let floor = Shape::plane(Vec3::new(0.0, -1.0, 0.0), Vec3::new(0.0, 3.0, 0.0)).unwrap();
+    /// let (distance, normal) = floor.distance_and_normal(Vec3::new(7.0, -1.25, 2.0));
+    /// assert_eq!((distance, normal), (-0.25, Vec3::Y)); // 25 cm inside
+    /// let flat = Shape::plane(Vec3::ZERO, Vec3::ZERO);
+    /// assert!(matches!(flat, Err(BuildError::OutOfRange { field: "plane.normal", .. })));
+    /// ```
     pub fn plane(point: Vec3, normal: Vec3) -> Result<Self, BuildError> {
         if let Some(value) = point.to_array().into_iter().find(|c| !c.is_finite()) {
             return Err(BuildError::NotFinite {
@@ -91,6 +101,15 @@ impl Shape {
     /// Refused: a non-finite centre (field `sphere.centre`, index of the
     /// component) or a radius that is not positive and finite
     /// (`sphere.radius`).
+    ///
+    /// ```
+    /// use sprung::{Shape, Vec3};
+    ///
+    /// let ball = Shape::sphere(Vec3::new(1.0, 0.0, 0.0), 0.5).unwrap();
+    /// let (distance, normal) = ball.distance_and_normal(Vec3::new(1.0, 2.0, 0.0));
+    /// assert_eq!((distance, normal), (1.5, Vec3::Y));
+    /// assert!(Shape::sphere(Vec3::ZERO, 0.0).is_err());
+    /// ```
     pub fn sphere(centre: Vec3, radius: Real) -> Result<Self, BuildError> {
         if let Some((index, value)) = centre
             .to_array()
@@ -148,6 +167,29 @@ impl Shape {
 }
 
 /// How a collider answers a particle that has gone inside it.
+///
+/// A particle resting on a penalty floor sinks until the virtual spring
+/// holds its weight, `k depth = m g`. Critically damped (`c = 2 √(k m)`),
+/// its transient dies out as `(1 + ω t) e^(-ω t)`, `ω = √(k/m) = 100/s`:
+///
+/// ```
+/// use sprung::{BodyData, Collider, ContactResponse, IntegratorKind, Shape, Vec3, World};
+///
+/// let (k, m, g) = (1e4, 1.0, 9.81);
+/// let floor = Shape::plane(Vec3::ZERO, Vec3::Y).unwrap();
+/// let damping = 2.0 * f64::sqrt(k * m);
+/// let spring = ContactResponse::Penalty { stiffness: k, damping, friction: 0.0 };
+/// let mut world = World::new(IntegratorKind::SymplecticEuler);
+/// world.colliders.push(Collider::new(floor, spring).unwrap());
+/// world.add_body("ball", BodyData::from_positions(vec![Vec3::ZERO]).with_mass(m)).unwrap();
+/// for _ in 0..300 {
+///     world.step(1e-3).unwrap();
+/// }
+/// let depth = -world.particles.position[0].y;
+/// assert!((depth - m * g / k).abs() < 1e-6 * m * g / k);
+/// let energy = world.energies().get("contact").unwrap();
+/// assert!((energy - 0.5 * k * depth * depth).abs() < 1e-15);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ContactResponse {
     /// Move the particle onto the surface; reflect the normal velocity
@@ -258,6 +300,30 @@ pub struct Collider {
 
 impl Collider {
     /// A static collider, with its coefficients checked.
+    ///
+    /// # Examples
+    ///
+    /// A particle thrown sideways onto a floor that stops it dead
+    /// (restitution 0) and lets it slide (no friction) ends on the floor,
+    /// moving on as fast as it was thrown:
+    ///
+    /// ```
+    /// use sprung::{BodyData, Collider, ContactResponse, IntegratorKind, Shape, Vec3, World};
+    ///
+    /// let floor = Shape::plane(Vec3::ZERO, Vec3::Y).unwrap();
+    /// let stop = ContactResponse::Projection { restitution: 0.0, friction: 0.0 };
+    /// let mut world = World::new(IntegratorKind::SymplecticEuler);
+    /// world.colliders.push(Collider::new(floor, stop).unwrap());
+    /// let ball = BodyData::from_positions(vec![Vec3::new(0.0, 0.1, 0.0)]).with_velocity(Vec3::X);
+    /// world.add_body("ball", ball).unwrap();
+    /// for _ in 0..500 {
+    ///     world.step(1e-3).unwrap();
+    /// }
+    /// let (x, v) = (world.particles.position[0], world.particles.velocity[0]);
+    /// assert_eq!((x.y, v), (0.0, Vec3::X));
+    /// let bouncy = ContactResponse::Projection { restitution: 1.5, friction: 0.0 };
+    /// assert!(Collider::new(floor, bouncy).is_err()); // restitution is at most 1
+    /// ```
     pub fn new(shape: Shape, response: ContactResponse) -> Result<Self, BuildError> {
         response.validate()?;
         Ok(Collider {
@@ -269,6 +335,28 @@ impl Collider {
 
     /// The same collider moving along `path` (its shape translated by the
     /// path's displacement at each time).
+    ///
+    /// # Examples
+    ///
+    /// A floor rising at 0.5 m/s lifts what rests on it:
+    ///
+    /// ```
+    /// use sprung::{BodyData, Collider, ContactResponse, IntegratorKind, Path, Shape, Vec3, World};
+    ///
+    /// let floor = Shape::plane(Vec3::ZERO, Vec3::Y).unwrap();
+    /// let stop = ContactResponse::Projection { restitution: 0.0, friction: 0.0 };
+    /// let lift = Path::new(vec![(0.0, Vec3::ZERO), (1.0, Vec3::new(0.0, 0.5, 0.0))]).unwrap();
+    /// let mut world = World::new(IntegratorKind::SymplecticEuler);
+    /// world.colliders.push(Collider::new(floor, stop).unwrap().with_path(lift));
+    /// world.add_body("box", BodyData::from_positions(vec![Vec3::ZERO])).unwrap();
+    /// for _ in 0..500 {
+    ///     world.step(1e-3).unwrap();
+    /// }
+    /// // At t = 0.5 s the floor is at 0.25 m, the box on it and moving with it
+    /// // (to the rounding of the time summed over 500 steps).
+    /// let (x, v) = (world.particles.position[0], world.particles.velocity[0]);
+    /// assert!((x.y - 0.25).abs() < 1e-12 && (v.y - 0.5).abs() < 1e-12);
+    /// ```
     pub fn with_path(mut self, path: Path) -> Self {
         self.path = Some(path);
         self

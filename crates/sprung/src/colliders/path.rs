@@ -10,6 +10,17 @@ use crate::{Real, Vec3};
 /// straight segments travelled at constant velocity. Before the first
 /// keyframe the displacement is the first one's, after the last keyframe the
 /// last one's: the collider is at rest there.
+///
+/// ```
+/// use sprung::{Path, Vec3};
+///
+/// let lift = Path::new(vec![(0.0, Vec3::ZERO), (2.0, Vec3::new(0.0, 1.0, 0.0))]).unwrap();
+/// assert_eq!(lift.offset_at(0.5), Vec3::new(0.0, 0.25, 0.0));
+/// assert_eq!(lift.velocity_at(0.5), Vec3::new(0.0, 0.5, 0.0));
+/// assert_eq!(lift.offset_at(3.0), Vec3::new(0.0, 1.0, 0.0)); // held after the last
+/// assert_eq!(lift.velocity_at(3.0), Vec3::ZERO);
+/// assert!(Path::new(vec![(1.0, Vec3::ZERO), (1.0, Vec3::X)]).is_err()); // times must increase
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Path {
     keyframes: Vec<(Real, Vec3)>,

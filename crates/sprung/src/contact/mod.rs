@@ -113,6 +113,34 @@ pub const REFERENCE_SPEED: Real = 10.0;
 pub const DEFAULT_THICKNESS: Real = 0.01;
 
 /// How bodies touch (the `[contact]` scene table).
+///
+/// Two particles of different bodies meet as balls of diameter `h`, the
+/// thickness: they close to less than `h`, never pass each other, and fly
+/// apart again, momentum kept (equal and opposite forces) and some energy
+/// lost (the default damping is half the critical one):
+///
+/// ```
+/// use sprung::{BodyData, ContactSettings, IntegratorKind, Vec3, World};
+///
+/// let mut world = World::new(IntegratorKind::SymplecticEuler);
+/// world.set_gravity(Vec3::ZERO);
+/// world.contacts.settings = ContactSettings { thickness: 0.05, ..ContactSettings::default() };
+/// let ball = |x: f64, v: f64| {
+///     BodyData::from_positions(vec![Vec3::new(x, 0.0, 0.0)]).with_velocity(Vec3::new(v, 0.0, 0.0))
+/// };
+/// world.add_body("left", ball(-0.1, 1.0)).unwrap();
+/// world.add_body("right", ball(0.1, -1.0)).unwrap();
+/// let mut closest = f64::INFINITY;
+/// for _ in 0..300 {
+///     world.step(1e-3).unwrap();
+///     let x = &world.particles.position;
+///     closest = closest.min(x[1].x - x[0].x);
+/// }
+/// assert!(0.0 < closest && closest < 0.05);
+/// let v = &world.particles.velocity;
+/// assert!(v[0].x < 0.0 && v[1].x > 0.0 && v[1].x < 1.0);
+/// assert!(world.linear_momentum().length() < 1e-12);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactSettings {
     /// Contact between bodies on or off. Default on.

@@ -20,6 +20,28 @@ use crate::{Real, Vec3};
 pub const GRAVITATIONAL_CONSTANT: Real = 6.674e-11;
 
 /// Mutual gravitation (the `[gravitation]` scene table).
+///
+/// Two bodies 2 m apart pull each other with `G m1 m2 / d²` and have the
+/// energy `-G m1 m2 / d` (without softening):
+///
+/// ```
+/// use sprung::forces::Gravitation;
+/// use sprung::{BodyData, IntegratorKind, Vec3, World};
+///
+/// let mut world = World::new(IntegratorKind::Rk4);
+/// world.set_gravity(Vec3::ZERO);
+/// let at = |x: f64, m: f64| BodyData::from_positions(vec![Vec3::new(x, 0.0, 0.0)]).with_mass(m);
+/// world.add_body("sun", at(0.0, 4.0)).unwrap();
+/// world.add_body("moon", at(2.0, 0.5)).unwrap();
+/// let g = 1e-3; // N·m²/kg², large enough to see
+/// world.forces.push(Box::new(Gravitation::new(g, 0.0).unwrap()));
+/// world.evaluate_forces();
+/// let pull = g * 4.0 * 0.5 / (2.0 * 2.0);
+/// assert_eq!(world.particles.force[0], Vec3::new(pull, 0.0, 0.0));
+/// assert_eq!(world.particles.force[1], Vec3::new(-pull, 0.0, 0.0));
+/// assert_eq!(world.energies().get("gravitation"), Some(-g * 4.0 * 0.5 / 2.0));
+/// assert!(Gravitation::new(-1.0, 0.0).is_err());
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Gravitation {
     /// `G` (N·m²/kg²).

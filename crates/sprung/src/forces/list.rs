@@ -18,6 +18,28 @@ use crate::Vec3;
 /// Built-in forces are reached by type: `world.forces.get_mut::<Wind>()`;
 /// [`ForceList::set`] keeps at most one force of a type, [`ForceList::push`]
 /// adds any number.
+///
+/// ```
+/// use sprung::forces::{AirDrag, Gravity, MouseSpring};
+/// use sprung::{IntegratorKind, Vec3, World};
+///
+/// let mut world = World::new(IntegratorKind::Verlet);
+/// let built_in = world.forces.len(); // gravity, springs, gas, contacts
+/// world.forces.set(AirDrag { coefficient: 0.1 });
+/// world.forces.set(AirDrag { coefficient: 0.2 }); // replaces the first
+/// assert_eq!(world.forces.len(), built_in + 1);
+/// assert_eq!(world.forces.get::<AirDrag>().unwrap().coefficient, 0.2);
+/// world.forces.get_mut::<Gravity>().unwrap().acceleration.y = -1.62;
+/// assert_eq!(world.gravity(), Vec3::new(0.0, -1.62, 0.0));
+/// // Two hands at once: `push` keeps both.
+/// let hand = |particle| {
+///     MouseSpring { particle, target: Vec3::ZERO, stiffness: 1.0, damping: 0.0 }
+/// };
+/// world.forces.push(Box::new(hand(0)));
+/// world.forces.push(Box::new(hand(1)));
+/// assert_eq!(world.forces.len(), built_in + 3);
+/// assert_eq!(world.forces.remove::<MouseSpring>().map(|h| h.particle), Some(0));
+/// ```
 #[derive(Debug, Default)]
 pub struct ForceList {
     forces: Vec<Box<dyn Force>>,

@@ -7,6 +7,25 @@ use crate::{Real, Vec3};
 
 /// A spring of zero rest length from particle `particle` to `target`:
 /// `f = k (target - x) - c v`.
+///
+/// ```
+/// use sprung::forces::MouseSpring;
+/// use sprung::{BodyData, IntegratorKind, Vec3, World};
+///
+/// let mut world = World::new(IntegratorKind::ImplicitEuler);
+/// world.set_gravity(Vec3::ZERO);
+/// let ball = BodyData::from_positions(vec![Vec3::ZERO]).with_velocity(Vec3::X);
+/// world.add_body("ball", ball).unwrap();
+/// let target = Vec3::new(0.0, 2.0, 0.0);
+/// let hand = MouseSpring { particle: 0, target, stiffness: 50.0, damping: 3.0 };
+/// world.forces.push(Box::new(hand));
+/// world.evaluate_forces();
+/// assert_eq!(world.particles.force[0], Vec3::new(-3.0, 100.0, 0.0)); // k (target - x) - c v
+/// // The cursor moves onto the particle: only the damping is left.
+/// world.forces.get_mut::<MouseSpring>().unwrap().target = Vec3::ZERO;
+/// world.evaluate_forces();
+/// assert_eq!(world.particles.force[0], Vec3::new(-3.0, 0.0, 0.0));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MouseSpring {
     /// The grabbed particle.

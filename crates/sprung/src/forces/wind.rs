@@ -68,6 +68,30 @@ impl WindModel {
 }
 
 /// Wind blowing on every surface of the world.
+///
+/// A flag in the xy-plane, at rest in a wind `w`: the simple model pushes
+/// each particle with `c (w · n) n`, `n = ±z` its normal, so only the wind
+/// across the flag counts:
+///
+/// ```
+/// use sprung::build::{self, ClothSprings};
+/// use sprung::forces::{Wind, WindField, WindModel};
+/// use sprung::{IntegratorKind, Vec3, World};
+///
+/// let mut world = World::new(IntegratorKind::Verlet);
+/// world.set_gravity(Vec3::ZERO);
+/// let flag = build::cloth(4, 3, 1.5, 1.0, ClothSprings::default()).unwrap();
+/// world.add_body("flag", flag.with_stiffness(100.0)).unwrap();
+/// let breeze = WindField::uniform(Vec3::new(1.0, 0.0, 2.0));
+/// let model = WindModel::Simple { coefficient: 0.5 };
+/// world.forces.push(Box::new(Wind::new(breeze, model).unwrap()));
+/// world.evaluate_forces(); // the springs, at rest, pull nothing
+/// assert!(world.particles.force.iter().all(|&f| f == Vec3::new(0.0, 0.0, 1.0)));
+/// // Blowing along the flag, it pushes nothing.
+/// world.forces.get_mut::<Wind>().unwrap().field.velocity = Vec3::X;
+/// world.evaluate_forces();
+/// assert!(world.particles.force.iter().all(|&f| f == Vec3::ZERO));
+/// ```
 #[derive(Debug, Clone)]
 pub struct Wind {
     /// The wind velocity field.

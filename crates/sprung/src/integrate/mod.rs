@@ -236,11 +236,53 @@ impl IntegratorKind {
     }
 
     /// The integrator named `name` (as in scene files), if any.
+    ///
+    /// ```
+    /// use sprung::IntegratorKind;
+    ///
+    /// assert_eq!(IntegratorKind::from_name("rk4"), Some(IntegratorKind::Rk4));
+    /// assert_eq!(IntegratorKind::from_name("RK4"), None); // names are lower case
+    /// for kind in IntegratorKind::ALL {
+    ///     assert_eq!(IntegratorKind::from_name(kind.name()), Some(kind));
+    ///     assert_eq!(kind.name().parse(), Ok(kind));
+    /// }
+    /// let error = "leapfrog".parse::<IntegratorKind>().unwrap_err();
+    /// assert!(error.starts_with("unknown integrator \"leapfrog\" (known: euler, "));
+    /// ```
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|k| k.name() == name)
     }
 
     /// The order of accuracy: global error ∝ dtᵖ.
+    ///
+    /// # Examples
+    ///
+    /// Halving the step divides the error by about `2^order`. A particle on a
+    /// spring (`k = 100 N/m`, `m = 1 kg`) to a pinned one, released 0.2 m from
+    /// rest, moves as `x(t) = 0.8 + 0.2 cos(10 t)`:
+    ///
+    /// ```
+    /// use sprung::{BodyData, IntegratorKind, SpringData, Vec3, World};
+    ///
+    /// let error = |kind: IntegratorKind, dt: f64| {
+    ///     let mut world = World::new(kind);
+    ///     world.set_gravity(Vec3::ZERO);
+    ///     let mut body = BodyData::from_positions(vec![Vec3::ZERO, Vec3::X]).with_pinned(vec![0]);
+    ///     body.springs = vec![SpringData { rest_length: Some(0.8), ..SpringData::between(0, 1) }];
+    ///     world.add_body("oscillator", body.with_stiffness(100.0)).unwrap();
+    ///     for _ in 0..(1.0 / dt).round() as usize {
+    ///         world.step(dt).unwrap();
+    ///     }
+    ///     (world.particles.position[1].x - (0.8 + 0.2 * 10_f64.cos())).abs()
+    /// };
+    /// use IntegratorKind::{Midpoint, Rk4, SymplecticEuler, Verlet};
+    /// for kind in [SymplecticEuler, Midpoint, Verlet, Rk4] {
+    ///     let ratio = error(kind, 0.01) / error(kind, 0.005);
+    ///     let expected = 2_f64.powi(kind.order() as i32);
+    ///     // Within 15 %: at these steps the error's next term still counts.
+    ///     assert!((ratio / expected - 1.0).abs() < 0.15);
+    /// }
+    /// ```
     pub fn order(self) -> u32 {
         match self {
             IntegratorKind::Euler
@@ -255,6 +297,14 @@ impl IntegratorKind {
 
     /// True for the methods that solve equations at each step (and read
     /// [`SolverSettings`]).
+    ///
+    /// ```
+    /// use sprung::IntegratorKind;
+    ///
+    /// let all = IntegratorKind::ALL.into_iter();
+    /// let implicit: Vec<_> = all.filter(|k| k.is_implicit()).collect();
+    /// assert_eq!(implicit, [IntegratorKind::ImplicitEuler, IntegratorKind::Projective]);
+    /// ```
     pub fn is_implicit(self) -> bool {
         matches!(
             self,

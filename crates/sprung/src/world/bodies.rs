@@ -15,6 +15,21 @@ use super::World;
 impl World {
     /// Check `data` and add it as a body called `name`; returns the body's
     /// index. Nothing is added when the body is refused.
+    ///
+    /// A name can be used once:
+    ///
+    /// ```
+    /// use sprung::{build, BuildError, IntegratorKind, World};
+    ///
+    /// let mut world = World::new(IntegratorKind::Verlet);
+    /// let rope = build::rope(5, 1.0).unwrap().with_stiffness(100.0);
+    /// assert_eq!(world.add_body("left", rope.clone()), Ok(0));
+    /// assert_eq!(world.add_body("right", rope.clone()), Ok(1));
+    /// assert_eq!(world.bodies[1].particles, 5..10);
+    /// let again = world.add_body("left", rope);
+    /// assert_eq!(again, Err(BuildError::DuplicateName("left".into())));
+    /// assert_eq!(world.particles.len(), 10); // nothing added
+    /// ```
     pub fn add_body(&mut self, name: &str, data: BodyData) -> Result<usize, BuildError> {
         data.validate()?;
         self.check_limits(&data)?;

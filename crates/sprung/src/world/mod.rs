@@ -55,6 +55,22 @@ pub const RESTING_SPEED: Real = 0.1;
 pub const MAX_SUBSTEPS: u32 = 1_000_000;
 
 /// How many substeps each step of the world is split into.
+///
+/// With [`Substeps::Auto`], a step ten times the stable one is split into as
+/// many substeps as keep each below 0.9 of it (`⌈10 / 0.9⌉ = 12`):
+///
+/// ```
+/// use sprung::{build, IntegratorKind, Substeps, World};
+///
+/// let mut world = World::new(IntegratorKind::SymplecticEuler);
+/// let rope = build::rope(10, 1.0).unwrap().with_stiffness(1e4);
+/// world.add_body("rope", rope).unwrap();
+/// world.settings.substeps = Substeps::Auto;
+/// let stable = world.stable_time_step();
+/// let report = world.step(10.0 * stable).unwrap();
+/// assert_eq!(report.substeps, Some(12));
+/// assert!(report.step_size.unwrap() < stable);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Substeps {
     /// Always this many (at least 1).
@@ -171,6 +187,22 @@ impl World {
     /// An empty world with default settings, stepped by `integrator`. The
     /// first world of a process sizes the engine's threads from
     /// `SPRUNG_THREADS` if it is set (see [`parallel::configure`]).
+    ///
+    /// # Examples
+    ///
+    /// A new world is empty, at time zero, with Earth's gravity:
+    ///
+    /// ```
+    /// use sprung::world::DEFAULT_GRAVITY;
+    /// use sprung::{IntegratorKind, Vec3, World};
+    ///
+    /// let world = World::new(IntegratorKind::Rk4);
+    /// assert_eq!(world.integrator(), IntegratorKind::Rk4);
+    /// assert_eq!(world.gravity(), DEFAULT_GRAVITY);
+    /// assert_eq!(DEFAULT_GRAVITY, Vec3::new(0.0, -9.81, 0.0));
+    /// assert_eq!((world.time(), world.steps()), (0.0, 0));
+    /// assert!(world.particles.is_empty() && world.bodies.is_empty());
+    /// ```
     pub fn new(integrator: IntegratorKind) -> Self {
         parallel::configure_from_env();
         let mut forces = ForceList::new();
@@ -215,11 +247,47 @@ impl World {
     }
 
     /// Set the acceleration of gravity (m/s²).
+    ///
+    /// On the Moon, a 3 kg rock weighs `m g` (the force is exact: one product):
+    ///
+    /// ```
+    /// use sprung::{BodyData, IntegratorKind, Vec3, World};
+    ///
+    /// let mut world = World::new(IntegratorKind::Verlet);
+    /// let moon = Vec3::new(0.0, -1.62, 0.0);
+    /// world.set_gravity(moon);
+    /// assert_eq!(world.gravity(), moon);
+    /// let rock = BodyData::from_positions(vec![Vec3::ZERO]).with_mass(3.0);
+    /// world.add_body("rock", rock).unwrap();
+    /// world.evaluate_forces();
+    /// assert_eq!(world.particles.force[0], 3.0 * moon);
+    /// ```
     pub fn set_gravity(&mut self, acceleration: Vec3) {
         self.forces.set(Gravity { acceleration });
     }
 
     /// Set the global air drag coefficient `c_air` (N·s/m); 0 removes it.
+    ///
+    /// Under drag alone, symplectic Euler multiplies a particle's velocity by
+    /// `1 - c dt / m` each step. With `c = 0.5`, `m = 1`, `dt = 1/8` the factor
+    /// is 15/16, and eight steps of it are exact in binary:
+    ///
+    /// ```
+    /// use sprung::forces::AirDrag;
+    /// use sprung::{BodyData, IntegratorKind, Vec3, World};
+    ///
+    /// let mut world = World::new(IntegratorKind::SymplecticEuler);
+    /// world.set_gravity(Vec3::ZERO);
+    /// world.set_air_drag(0.5);
+    /// let ball = BodyData::from_positions(vec![Vec3::ZERO]).with_velocity(Vec3::X);
+    /// world.add_body("ball", ball).unwrap();
+    /// for _ in 0..8 {
+    ///     world.step(0.125).unwrap();
+    /// }
+    /// assert_eq!(world.particles.velocity[0].x, (1.0 - 0.5 * 0.125_f64).powi(8));
+    /// world.set_air_drag(0.0);
+    /// assert!(world.forces.get::<AirDrag>().is_none());
+    /// ```
     pub fn set_air_drag(&mut self, coefficient: Real) {
         if coefficient == 0.0 {
             self.forces.remove::<AirDrag>();
@@ -241,6 +309,27 @@ impl World {
 
     /// Time each stage of every step from now on ([`World::profile`]), or
     /// stop. Off (the default), the timers cost one untaken branch a stage.
+    ///
+    /// A midpoint step evaluates the forces twice:
+    ///
+    /// ```
+    /// use sprung::{build, IntegratorKind, Stage, World};
+    ///
+    /// let mut world = World::new(IntegratorKind::Midpoint);
+    /// world.add_body("rope", build::rope(10, 1.0).unwrap().with_stiffness(100.0)).unwrap();
+    /// world.step(1e-3).unwrap();
+    /// assert_eq!(world.profile().steps(), 0); // off by default
+    /// world.set_profiling(true);
+    /// for _ in 0..10 {
+    ///     world.step(1e-3).unwrap();
+    /// }
+    /// let profile = world.profile();
+    /// assert_eq!(profile.steps(), 10);
+    /// assert_eq!(profile.calls(Stage::Forces), 20);
+    /// assert!(profile.staged() <= profile.wall());
+    /// world.reset_profile();
+    /// assert_eq!(world.profile().steps(), 0);
+    /// ```
     pub fn set_profiling(&mut self, on: bool) {
         self.timer.set(on);
     }
@@ -277,6 +366,26 @@ impl World {
     }
 
     /// Switch the integrator; positions, velocities and time are kept.
+    ///
+    /// Start a run explicitly and go on implicitly at a step ten times the
+    /// stable one:
+    ///
+    /// ```
+    /// use sprung::{build, IntegratorKind, World};
+    ///
+    /// let mut world = World::new(IntegratorKind::SymplecticEuler);
+    /// world.add_body("rope", build::rope(8, 1.0).unwrap().with_stiffness(100.0)).unwrap();
+    /// for _ in 0..10 {
+    ///     world.step(1e-3).unwrap();
+    /// }
+    /// let (time, position) = (world.time(), world.particles.position.clone());
+    /// world.set_integrator(IntegratorKind::ImplicitEuler);
+    /// assert_eq!(world.integrator(), IntegratorKind::ImplicitEuler);
+    /// assert_eq!((world.time(), &world.particles.position), (time, &position));
+    /// let dt = 10.0 * world.stable_time_step();
+    /// let report = world.step(dt).unwrap();
+    /// assert!(report.iterations.is_some()); // a conjugate-gradient solve
+    /// ```
     pub fn set_integrator(&mut self, kind: IntegratorKind) {
         if kind != self.integrator.kind() {
             self.integrator = kind.create();
@@ -284,6 +393,20 @@ impl World {
     }
 
     /// The body called `name`, if any.
+    ///
+    /// ```
+    /// use sprung::build::{self, ClothSprings};
+    /// use sprung::{IntegratorKind, World};
+    ///
+    /// let mut world = World::new(IntegratorKind::Verlet);
+    /// world.add_body("rope", build::rope(4, 1.0).unwrap()).unwrap();
+    /// let flag = build::cloth(3, 2, 1.0, 0.5, ClothSprings::default()).unwrap();
+    /// world.add_body("flag", flag).unwrap();
+    /// let flag = world.body("flag").unwrap();
+    /// assert_eq!(flag.particles, 4..10); // after the rope's 4
+    /// assert_eq!(flag.faces.len(), 4);
+    /// assert!(world.body("sail").is_none());
+    /// ```
     pub fn body(&self, name: &str) -> Option<&Body> {
         self.names.get(name).map(|&i| &self.bodies[i])
     }

@@ -9,6 +9,40 @@ impl World {
     /// The state that changes from step to step (see [`crate::state`]):
     /// with the same scene, [`World::restore_state`] gives a world that
     /// steps on with the same bits as this one.
+    ///
+    /// # Examples
+    ///
+    /// A run stopped halfway and resumed in a fresh world from the same scene
+    /// ends with the same bits as one that never stopped (Verlet's previous
+    /// positions are in the state):
+    ///
+    /// ```
+    /// use sprung::{build, IntegratorKind, World};
+    ///
+    /// let scene = || {
+    ///     let mut world = World::new(IntegratorKind::Verlet);
+    ///     let rope = build::rope(10, 1.0).unwrap().with_stiffness(200.0);
+    ///     world.add_body("rope", rope).unwrap();
+    ///     world
+    /// };
+    /// let mut run = scene();
+    /// for _ in 0..50 {
+    ///     run.step(1e-3).unwrap();
+    /// }
+    /// let saved = run.save_state();
+    /// for _ in 0..50 {
+    ///     run.step(1e-3).unwrap();
+    /// }
+    /// let mut resumed = scene();
+    /// resumed.restore_state(&saved).unwrap();
+    /// assert_eq!(resumed.steps(), 50);
+    /// for _ in 0..50 {
+    ///     resumed.step(1e-3).unwrap();
+    /// }
+    /// assert_eq!(resumed.particles.position, run.particles.position);
+    /// assert_eq!(resumed.particles.velocity, run.particles.velocity);
+    /// assert_eq!(resumed.time(), run.time());
+    /// ```
     pub fn save_state(&self) -> WorldState {
         let mut state = WorldState::default();
         let as_real = |count: u64| count as Real;
@@ -51,6 +85,24 @@ impl World {
     /// the same scene (the integrator may differ: a different one starts
     /// without history, as after [`World::set_integrator`]). Nothing is changed when the
     /// state is refused (entries missing, of the wrong length, or not finite).
+    ///
+    /// # Examples
+    ///
+    /// A state from another scene is refused, and the world left as it was:
+    ///
+    /// ```
+    /// use sprung::{build, IntegratorKind, StateError, World};
+    ///
+    /// let mut short = World::new(IntegratorKind::Verlet);
+    /// short.add_body("rope", build::rope(4, 1.0).unwrap()).unwrap();
+    /// let mut long = World::new(IntegratorKind::Verlet);
+    /// long.add_body("rope", build::rope(5, 1.0).unwrap()).unwrap();
+    /// let error = long.restore_state(&short.save_state()).unwrap_err();
+    /// assert!(matches!(error, StateError::Length { expected: 15, found: 12, .. }));
+    /// let message = error.to_string();
+    /// assert!(message.contains("`position` has 12 numbers where this world needs 15"));
+    /// assert_eq!(long.particles.position[4].y, -1.0);
+    /// ```
     pub fn restore_state(&mut self, state: &WorldState) -> Result<(), StateError> {
         let n = self.particles.len();
         // The history goes back to the integrator that saved it; another

@@ -70,6 +70,38 @@ pub const MAX_PROJECTIVE_ITERATIONS: u32 = 10_000;
 /// The tolerances and iteration limits of the implicit integrators (the
 /// `[sim]` keys `solver_tolerance`, `max_iterations`, `newton_iterations`,
 /// `iterations` and `preconditioner`).
+///
+/// Implicit Euler with the Laplacian preconditioner takes a stiff rope
+/// (`k = 10⁴ N/m`, 1 kg particles) at a hundred times the explicit stable
+/// step. For a straight rope moving along its length the preconditioner
+/// `M + dt² L` is the solve's very matrix, so conjugate gradients converge
+/// in one iteration; and backward Euler damps the swing away, leaving the
+/// rope at its static stretch, each spring stretched by the weight it
+/// holds over `k`: the lowest particle `1 + m g (1 + 2 + … + 19) / k` m
+/// down:
+///
+/// ```
+/// use sprung::integrate::{Preconditioner, SolverSettings};
+/// use sprung::{build, IntegratorKind, World};
+///
+/// let mut world = World::new(IntegratorKind::ImplicitEuler);
+/// world.settings.solver = SolverSettings {
+///     preconditioner: Preconditioner::Laplacian,
+///     tolerance: 1e-8,
+///     ..SolverSettings::default()
+/// };
+/// let (k, m, g) = (1e4, 1.0, 9.81);
+/// world.add_body("rope", build::rope(20, 1.0).unwrap().with_stiffness(k)).unwrap();
+/// let dt = 100.0 * world.stable_time_step();
+/// for _ in 0..20 {
+///     let report = world.step(dt).unwrap();
+///     assert_eq!(report.iterations, Some(1));
+///     assert!(report.residual.unwrap() <= 1e-8);
+/// }
+/// assert_eq!(world.solver_stats().unconverged_steps, 0);
+/// let stretched = 1.0 + m * g * 190.0 / k;
+/// assert!((world.particles.position[19].y + stretched).abs() < 1e-9);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolverSettings {
     /// Relative residual `|b - A x| / |b|` at which conjugate gradients stop
