@@ -96,7 +96,8 @@ pub fn kinetic_energy(particles: &Particles) -> Real {
         .sum()
 }
 
-/// Linear momentum `Σ m v` of the movable particles (kg·m/s).
+/// Linear momentum `Σ m v` of the particles (kg·m/s); pinned ones, at
+/// rest, add nothing.
 pub fn linear_momentum(particles: &Particles) -> Vec3 {
     particles
         .velocity

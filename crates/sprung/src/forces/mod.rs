@@ -38,6 +38,7 @@
 
 mod bounds;
 mod drag;
+mod faces;
 mod gravitation;
 mod gravity;
 mod jacobian;
@@ -45,7 +46,6 @@ mod list;
 mod mouse;
 mod pressure;
 mod spring;
-mod surfaces;
 mod wind;
 mod wind_field;
 

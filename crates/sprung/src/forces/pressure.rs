@@ -21,7 +21,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use super::surfaces::{on_its_own, own_surface, BodySurface, Surfaces};
+use super::faces::{on_its_own, own_surface, BodySurface, Surfaces};
 use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::body::Body;
 use crate::gas::VolumeModel;

@@ -17,7 +17,7 @@
 //! and on 2D loops (a segment of length `l` counts as an area `l` per metre
 //! of depth). The sign of a normal does not matter: `n` appears twice.
 
-use super::surfaces::Surfaces;
+use super::faces::Surfaces;
 use super::wind_field::WindField;
 use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::error::BuildError;

@@ -392,6 +392,22 @@ impl World {
         }
     }
 
+    /// The index of the body called `name` (what [`World::volume`],
+    /// [`World::pressure`] and [`World::centroid`] take), if any.
+    ///
+    /// ```
+    /// use sprung::{build, IntegratorKind, World};
+    ///
+    /// let mut world = World::new(IntegratorKind::Verlet);
+    /// world.add_body("a", build::rope(3, 1.0).unwrap()).unwrap();
+    /// world.add_body("b", build::rope(3, 1.0).unwrap()).unwrap();
+    /// assert_eq!(world.body_index("b"), Some(1));
+    /// assert_eq!(world.body_index("c"), None);
+    /// ```
+    pub fn body_index(&self, name: &str) -> Option<usize> {
+        self.names.get(name).copied()
+    }
+
     /// The body called `name`, if any.
     ///
     /// ```

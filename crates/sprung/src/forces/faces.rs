@@ -1,4 +1,4 @@
-//! The surfaces of the bodies (triangles, 2D segments) as the forces that
+//! The faces of the bodies (triangles, 2D segments) as the forces that
 //! add into their vertices (gas pressure, wind) take them: a short list in
 //! its stored order, a long one in blocks for the threads.
 
