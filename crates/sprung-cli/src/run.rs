@@ -7,16 +7,13 @@ use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
 use sprung::error::{Readable, Seconds};
-use sprung::{Real, StepError};
+use sprung::StepError;
 use sprung_io::{load_scene, Scene, SceneError};
 
 use crate::checkpoint;
 use crate::interrupt::{self, Signal};
 use crate::outputs::Outputs;
 use crate::RunOptions;
-
-/// Records per simulated second when neither the scene nor `--every` says.
-const DEFAULT_RECORD_RATE: Real = 50.0;
 
 /// Why a command failed.
 #[derive(Debug)]
@@ -88,10 +85,7 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         scene.world.set_integrator(kind);
     }
     let steps = planned_steps(&scene, options.steps, options.time)?;
-    let every = options
-        .every
-        .or(scene.every)
-        .unwrap_or_else(|| ((1.0 / DEFAULT_RECORD_RATE / scene.dt).round() as u64).max(1));
+    let every = scene.record_every(options.every);
     if every == 0 {
         return Err(CliError::Input("--every must be at least 1".into()));
     }
@@ -276,18 +270,6 @@ fn unconverged_warning(scene: &Scene) -> String {
     )
 }
 
-/// `steps` (a count from a time divided by a step), refused above
-/// [`sprung_io::scene::MAX_STEPS`].
-fn checked_steps(steps: f64, what: &str) -> Result<u64, CliError> {
-    if steps > sprung_io::scene::MAX_STEPS as f64 {
-        return Err(CliError::Input(format!(
-            "{what}: {steps:.3e} steps is more than the {:.0e} a run may take",
-            sprung_io::scene::MAX_STEPS as f64
-        )));
-    }
-    Ok((steps.round() as u64).max(1))
-}
-
 /// The number of steps to run `scene`: `steps`, or `time` (s) divided by
 /// its time step, or the scene's own duration. Shared by `run` and `render`.
 pub(crate) fn planned_steps(
@@ -301,7 +283,13 @@ pub(crate) fn planned_steps(
         (None, Some(t)) if !(t.is_finite() && t > 0.0) => Err(CliError::Input(format!(
             "--time {t}: must be a positive, finite time (s)"
         ))),
-        (None, Some(t)) => checked_steps(t / scene.dt, "--time"),
+        (None, Some(t)) => scene.steps_in(t).ok_or_else(|| {
+            CliError::Input(format!(
+                "--time: {:.3e} steps is more than the {:.0e} a run may take",
+                t / scene.dt,
+                sprung_io::scene::MAX_STEPS as f64
+            ))
+        }),
         (None, None) => Ok(scene.steps),
     }
 }

@@ -52,7 +52,8 @@ pub use draw::draw;
 pub use gif::{delay_centiseconds, GifWriter, MIN_DELAY_CENTISECONDS};
 pub use image::Image;
 pub use output::{
-    check_size, frame_run, render_to_dir, RenderSettings, Rendered, GIF_NAME, MAX_SIZE, MIN_SIZE,
+    check_size, frame_run, render_in_memory, render_to_dir, RenderSettings, Rendered, GIF_NAME,
+    MAX_SIZE, MIN_SIZE,
 };
 pub use snapshot::{chain_loops, Model, Snapshot};
 pub use source::{

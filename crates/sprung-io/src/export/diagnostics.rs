@@ -47,7 +47,7 @@ use super::AtomicFile;
 /// ```
 #[derive(Debug)]
 pub struct Diagnostics {
-    file: AtomicFile,
+    file: Sink,
     probes: Vec<usize>,
     /// The potential terms of the energy, as the header lists them.
     energy_names: Vec<&'static str>,
@@ -60,7 +60,29 @@ impl Diagnostics {
     /// Start `path` with the header for `world`'s bodies and the `probes`
     /// (particle indices, which the caller has checked).
     pub fn create(path: &Path, world: &World, probes: &[usize]) -> io::Result<Self> {
-        let mut file = AtomicFile::create(path)?;
+        Self::start(Sink::File(AtomicFile::create(path)?), world, probes)
+    }
+
+    /// The same table kept in memory, for a program that reads the rows
+    /// back ([`Diagnostics::text`]) instead of a file: the same bytes a
+    /// file of the same run holds.
+    ///
+    /// ```
+    /// use sprung::{build, IntegratorKind, World};
+    /// use sprung_io::export::Diagnostics;
+    ///
+    /// let mut world = World::new(IntegratorKind::Verlet);
+    /// world.add_body("rope", build::rope(4, 1.0).unwrap()).unwrap();
+    /// let mut table = Diagnostics::in_memory(&world, &[]);
+    /// table.record(&world).unwrap();
+    /// assert!(table.text().starts_with("step,time,kinetic,spring,gravity,gas,total,"));
+    /// assert_eq!(table.text().lines().count(), 2); // the header and a row
+    /// ```
+    pub fn in_memory(world: &World, probes: &[usize]) -> Self {
+        Self::start(Sink::Memory(Vec::new()), world, probes).expect("writing to memory cannot fail")
+    }
+
+    fn start(mut file: Sink, world: &World, probes: &[usize]) -> io::Result<Self> {
         writeln!(file, "{}", header(world, probes))?;
         Ok(Diagnostics {
             file,
@@ -69,6 +91,15 @@ impl Diagnostics {
             rows: 0,
             times: Vec::new(),
         })
+    }
+
+    /// The table so far as text (header and rows) when it is kept in
+    /// memory ([`Diagnostics::in_memory`]); empty for a file.
+    pub fn text(&self) -> &str {
+        match &self.file {
+            Sink::Memory(bytes) => std::str::from_utf8(bytes).unwrap_or_default(),
+            Sink::File(_) => "",
+        }
     }
 
     /// Go on with the table of a run that stopped after `rows` rows: the
@@ -162,22 +193,11 @@ impl Diagnostics {
     /// starting row; the substeps and the last substep's length (s) where a
     /// step was split (`rk45`, `substeps`).
     pub fn record(&mut self, world: &World) -> io::Result<()> {
-        let e = world.energies();
         let optional = |value: Option<f64>| value.map(|v| Real(v).to_string()).unwrap_or_default();
         let report = world.last_step_report();
-        let mut row = format!(
-            "{},{},{}",
-            world.steps(),
-            Real(world.time()),
-            Real(e.kinetic)
-        );
-        for (k, name) in self.energy_names.iter().enumerate() {
-            if k == TERMS_BEFORE_TOTAL {
-                row.push_str(&format!(",{}", Real(e.total())));
-            }
-            // A term the world no longer has (a force taken out of the
-            // list mid-run) is zero.
-            row.push_str(&format!(",{}", Real(e.get(name).unwrap_or(0.0))));
+        let mut row = format!("{},{}", world.steps(), Real(world.time()));
+        for (_, energy) in energy_columns(world, &self.energy_names) {
+            row.push_str(&format!(",{}", Real(energy)));
         }
         row.push_str(&format!(
             ",{},{},{},{},{}",
@@ -227,10 +247,66 @@ impl Diagnostics {
         self.file.flush()
     }
 
-    /// Finish the file and move it into place.
+    /// Finish the file and move it into place (nothing to do in memory).
     pub fn finish(self) -> io::Result<()> {
-        self.file.commit()
+        match self.file {
+            Sink::File(file) => file.commit(),
+            Sink::Memory(_) => Ok(()),
+        }
     }
+}
+
+/// Where the table's rows go: a file (complete or not at all) or memory.
+#[derive(Debug)]
+enum Sink {
+    File(AtomicFile),
+    Memory(Vec<u8>),
+}
+
+impl Write for Sink {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        match self {
+            Sink::File(file) => file.write(buf),
+            Sink::Memory(bytes) => bytes.write(buf),
+        }
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        match self {
+            Sink::File(file) => file.flush(),
+            Sink::Memory(_) => Ok(()),
+        }
+    }
+}
+
+/// The energy columns of `world` (J) as `diagnostics.csv` has them, in
+/// its order: `kinetic`, the potential terms `names` (the world's
+/// [`World::energy_names`] when the table started) with `total` after the
+/// first three. A term the world no longer has (a force taken out of the
+/// list mid-run) is zero.
+///
+/// ```
+/// use sprung::{build, IntegratorKind, World};
+/// use sprung_io::export::energy_columns;
+///
+/// let mut world = World::new(IntegratorKind::Verlet);
+/// world.add_body("rope", build::rope(4, 1.0).unwrap()).unwrap();
+/// let columns = energy_columns(&world, &world.energy_names());
+/// let names: Vec<&str> = columns.iter().map(|c| c.0).collect();
+/// assert_eq!(names[..5], ["kinetic", "spring", "gravity", "gas", "total"]);
+/// let total = columns.iter().find(|c| c.0 == "total").unwrap().1;
+/// assert_eq!(total, world.energies().total());
+/// ```
+pub fn energy_columns(world: &World, names: &[&'static str]) -> Vec<(&'static str, f64)> {
+    let e = world.energies();
+    let mut columns = vec![("kinetic", e.kinetic)];
+    for (k, &name) in names.iter().enumerate() {
+        if k == TERMS_BEFORE_TOTAL {
+            columns.push(("total", e.total()));
+        }
+        columns.push((name, e.get(name).unwrap_or(0.0)));
+    }
+    columns
 }
 
 /// A number as `diagnostics.csv` writes it: the shortest digits that read

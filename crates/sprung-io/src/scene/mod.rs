@@ -68,6 +68,37 @@ pub struct Scene {
     pub warnings: Vec<String>,
 }
 
+/// Diagnostics rows per simulated second when neither the scene's
+/// `every` nor the caller says how often to record.
+pub const DEFAULT_RECORD_RATE: Real = 50.0;
+
+impl Scene {
+    /// The steps of `dt` in `time` (s), rounded, at least 1; `None` when
+    /// `time` is not a positive finite time or takes more than
+    /// [`MAX_STEPS`].
+    ///
+    /// ```
+    /// # let text = "[[body]]\nname = \"a\"\nparticles = [[0, 0, 0]]\n[sim]\ndt = 1e-3\n";
+    /// # let scene = sprung_io::parse_scene(text, "a.toml".as_ref()).unwrap();
+    /// assert_eq!(scene.steps_in(0.25), Some(250));
+    /// assert_eq!(scene.steps_in(-1.0), None);
+    /// ```
+    pub fn steps_in(&self, time: Real) -> Option<u64> {
+        let steps = (time / self.dt).round();
+        (time.is_finite() && time > 0.0 && steps <= MAX_STEPS as Real)
+            .then(|| (steps as u64).max(1))
+    }
+
+    /// Steps between diagnostics rows: `every` when given, else the
+    /// scene's `every`, else [`DEFAULT_RECORD_RATE`] rows per simulated
+    /// second (at least every step).
+    pub fn record_every(&self, every: Option<u64>) -> u64 {
+        every
+            .or(self.every)
+            .unwrap_or_else(|| ((1.0 / DEFAULT_RECORD_RATE / self.dt).round() as u64).max(1))
+    }
+}
+
 /// The `[camera]` table: each part `None` where the scene leaves it to the
 /// picture maker (framing the bodies automatically).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

@@ -1,6 +1,7 @@
 //! The animated GIF: one frame per picture, each with its own 256-colour
 //! palette (NeuQuant quantisation, deterministic), looping forever.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use sprung::Real;
@@ -16,16 +17,17 @@ const QUANTISER_SPEED: i32 = 10;
 /// shown at 1/10 s by most browsers.
 pub const MIN_DELAY_CENTISECONDS: u16 = 2;
 
-/// An animated GIF being written to its file (complete or not at all).
-pub struct GifWriter {
-    encoder: gif::Encoder<AtomicFile>,
+/// An animated GIF being written to its file (complete or not at all), or
+/// to memory ([`GifWriter::in_memory`]).
+pub struct GifWriter<W: Write = AtomicFile> {
+    encoder: gif::Encoder<W>,
     path: PathBuf,
     width: u16,
     height: u16,
     frames: usize,
 }
 
-impl std::fmt::Debug for GifWriter {
+impl<W: Write> std::fmt::Debug for GifWriter<W> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("GifWriter")
             .field("path", &self.path)
@@ -49,14 +51,46 @@ impl GifWriter {
     /// Start the GIF `path` for pictures of `width` × `height` pixels
     /// (each at most 65535).
     pub fn create(path: &Path, width: u32, height: u32) -> Result<Self, RenderError> {
+        let file = AtomicFile::create(path).map_err(|e| RenderError::io(path, e))?;
+        GifWriter::start(file, path, width, height)
+    }
+
+    /// Finish the file and move it into place; returns its path.
+    pub fn finish(self) -> Result<PathBuf, RenderError> {
+        let path = self.path;
+        let file = self
+            .encoder
+            .into_inner()
+            .map_err(|e| RenderError::Encode(format!("{}: {e}", path.display())))?;
+        file.commit().map_err(|e| RenderError::io(&path, e))?;
+        Ok(path)
+    }
+}
+
+impl GifWriter<Vec<u8>> {
+    /// A GIF of `width` × `height` pixels gathered in memory.
+    pub fn in_memory(width: u32, height: u32) -> Result<Self, RenderError> {
+        GifWriter::start(Vec::new(), Path::new("the GIF"), width, height)
+    }
+
+    /// The finished GIF's bytes.
+    pub fn into_bytes(self) -> Result<Vec<u8>, RenderError> {
+        self.encoder
+            .into_inner()
+            .map_err(|e| RenderError::Encode(format!("the GIF: {e}")))
+    }
+}
+
+impl<W: Write> GifWriter<W> {
+    /// Start a GIF into `sink`, named `path` in messages.
+    fn start(sink: W, path: &Path, width: u32, height: u32) -> Result<Self, RenderError> {
         let (Ok(w), Ok(h)) = (u16::try_from(width), u16::try_from(height)) else {
             return Err(RenderError::BadSize(format!(
                 "{width}×{height} is too large for a GIF (65535 at most)"
             )));
         };
-        let file = AtomicFile::create(path).map_err(|e| RenderError::io(path, e))?;
         let fail = |e: gif::EncodingError| RenderError::Encode(format!("{}: {e}", path.display()));
-        let mut encoder = gif::Encoder::new(file, w, h, &[]).map_err(fail)?;
+        let mut encoder = gif::Encoder::new(sink, w, h, &[]).map_err(fail)?;
         encoder.set_repeat(gif::Repeat::Infinite).map_err(fail)?;
         Ok(GifWriter {
             encoder,
@@ -87,16 +121,5 @@ impl GifWriter {
             .map_err(|e| RenderError::Encode(format!("{}: {e}", self.path.display())))?;
         self.frames += 1;
         Ok(())
-    }
-
-    /// Finish the file and move it into place; returns its path.
-    pub fn finish(self) -> Result<PathBuf, RenderError> {
-        let path = self.path;
-        let file = self
-            .encoder
-            .into_inner()
-            .map_err(|e| RenderError::Encode(format!("{}: {e}", path.display())))?;
-        file.commit().map_err(|e| RenderError::io(&path, e))?;
-        Ok(path)
     }
 }

@@ -10,6 +10,7 @@ use sprung_io::export::AtomicFile;
 use super::camera::{Bounds, Camera, CameraSetting};
 use super::draw::draw;
 use super::gif::{delay_centiseconds, GifWriter};
+use super::image::Image;
 use super::snapshot::Snapshot;
 use super::source::DEFAULT_PICTURE_RATE;
 use super::style::Style;
@@ -99,13 +100,50 @@ pub fn frame_run(snapshots: &[Snapshot], settings: &RenderSettings) -> (Camera, 
     (camera, bounds)
 }
 
-/// Draw every snapshot into `out` (created if needed; earlier
-/// `frame_*.png` there are removed first so sequences do not mix).
-pub fn render_to_dir(
+/// Draw every snapshot in memory with one camera for the run ([`frame_run`]):
+/// the pictures, and, when `settings.gif` is set, the animated GIF's bytes
+/// (each picture shown for the simulated time to the next, or `1/fps`).
+/// The same pictures [`render_to_dir`] writes.
+///
+/// ```
+/// use sprung::{build, IntegratorKind, World};
+/// use sprung_view::render::{record, render_in_memory, RenderSettings, Snapshot};
+///
+/// let mut world = World::new(IntegratorKind::Verlet);
+/// world.add_body("rope", build::rope(8, 1.0).unwrap().with_stiffness(100.0)).unwrap();
+/// let recording = record(&mut world, 1e-3, 100, 50);
+/// let mut settings = RenderSettings::new(64, 48);
+/// settings.gif = true;
+/// let (pictures, gif) = render_in_memory(&recording.snapshots, &settings).unwrap();
+/// assert_eq!(pictures.len(), 3); // the start, step 50 and step 100
+/// assert_eq!((pictures[0].width(), pictures[0].height()), (64, 48));
+/// assert!(gif.unwrap().starts_with(b"GIF89a"));
+/// ```
+pub fn render_in_memory(
     snapshots: &[Snapshot],
-    out: &Path,
     settings: &RenderSettings,
-) -> Result<Rendered, RenderError> {
+) -> Result<(Vec<Image>, Option<Vec<u8>>), RenderError> {
+    check(snapshots, settings)?;
+    let (camera, bounds) = frame_run(snapshots, settings);
+    let mut gif = match settings.gif {
+        true => Some(GifWriter::in_memory(settings.width, settings.height)?),
+        false => None,
+    };
+    let mut pictures = Vec::with_capacity(snapshots.len());
+    let mut trace = Vec::new();
+    for (k, snapshot) in snapshots.iter().enumerate() {
+        let image = draw_one(snapshot, &camera, &bounds, settings, &mut trace)?;
+        if let Some(gif) = gif.as_mut() {
+            gif.push(&image, delay(snapshots, k, settings.fps))?;
+        }
+        pictures.push(image);
+    }
+    let gif = gif.map(GifWriter::into_bytes).transpose()?;
+    Ok((pictures, gif))
+}
+
+/// Refuse a size, an empty run or a frame rate that cannot be drawn.
+fn check(snapshots: &[Snapshot], settings: &RenderSettings) -> Result<(), RenderError> {
     check_size(settings.width, settings.height)?;
     if snapshots.is_empty() {
         return Err(RenderError::Empty);
@@ -117,6 +155,33 @@ pub fn render_to_dir(
             )));
         }
     }
+    Ok(())
+}
+
+/// Draw `snapshot`, extending the traced particle's path first.
+fn draw_one(
+    snapshot: &Snapshot,
+    camera: &Camera,
+    bounds: &Bounds,
+    settings: &RenderSettings,
+    trace: &mut Vec<Vec3>,
+) -> Result<Image, RenderError> {
+    if let Some(i) = settings.style.trace {
+        if let Some(&p) = snapshot.position.get(i as usize) {
+            trace.push(p);
+        }
+    }
+    draw(snapshot, camera, bounds, &settings.style, trace)
+}
+
+/// Draw every snapshot into `out` (created if needed; earlier
+/// `frame_*.png` there are removed first so sequences do not mix).
+pub fn render_to_dir(
+    snapshots: &[Snapshot],
+    out: &Path,
+    settings: &RenderSettings,
+) -> Result<Rendered, RenderError> {
+    check(snapshots, settings)?;
     prepare(out)?;
     let (camera, bounds) = frame_run(snapshots, settings);
     let mut gif = match settings.gif {
@@ -130,12 +195,7 @@ pub fn render_to_dir(
     let mut pictures = Vec::with_capacity(snapshots.len());
     let mut trace = Vec::new();
     for (k, snapshot) in snapshots.iter().enumerate() {
-        if let Some(i) = settings.style.trace {
-            if let Some(&p) = snapshot.position.get(i as usize) {
-                trace.push(p);
-            }
-        }
-        let image = draw(snapshot, &camera, &bounds, &settings.style, &trace)?;
+        let image = draw_one(snapshot, &camera, &bounds, settings, &mut trace)?;
         let path = out.join(format!("frame_{k:06}.png"));
         AtomicFile::write(&path, &image.encode_png()?).map_err(|e| RenderError::io(&path, e))?;
         pictures.push(path);

@@ -36,6 +36,7 @@
 //! To add a force: a type implementing [`Force`] in its own file here, added
 //! with `world.forces.push(...)` (or [`ForceList::set`] for one of a kind).
 
+mod applied;
 mod bounds;
 mod drag;
 mod faces;
@@ -49,6 +50,7 @@ mod spring;
 mod wind;
 mod wind_field;
 
+pub use applied::AppliedForces;
 pub use bounds::StiffnessBounds;
 pub use drag::AirDrag;
 pub use gravitation::{

@@ -392,6 +392,25 @@ impl World {
         }
     }
 
+    /// Start the integrator afresh, without the history it keeps between
+    /// steps (as after [`World::set_integrator`]): for a caller that has
+    /// set positions or velocities from outside, so that the next step
+    /// starts from them alone.
+    ///
+    /// ```
+    /// use sprung::{build, IntegratorKind, World};
+    ///
+    /// let mut world = World::new(IntegratorKind::Verlet);
+    /// world.add_body("rope", build::rope(3, 1.0).unwrap()).unwrap();
+    /// world.step(1e-3).unwrap();
+    /// world.particles.position[2].x += 0.1; // moved by hand
+    /// world.restart_integrator();
+    /// assert_eq!(world.integrator(), IntegratorKind::Verlet);
+    /// ```
+    pub fn restart_integrator(&mut self) {
+        self.integrator = self.integrator.kind().create();
+    }
+
     /// The index of the body called `name` (what [`World::volume`],
     /// [`World::pressure`] and [`World::centroid`] take), if any.
     ///
