@@ -4,7 +4,9 @@
 # workspace (the doc examples and the viewer's tests in a real browser and
 # a real X server included), then run every example program of the engine
 # (crates/sprung/examples/*.rs, in the dev profile the tests build in,
-# each given a temporary folder for its files): it fails if one fails.
+# each given a temporary folder for its files), then build the Python
+# package's wheel (maturin) into a virtual environment under target/ and
+# run its tests (pytest, python/tests): it fails if one fails.
 #
 #   scripts/test.sh                 everything
 #   scripts/test.sh -- NAME         extra arguments go to `cargo test --workspace`
@@ -18,8 +20,11 @@
 #   - the Rust target wasm32-unknown-unknown (rustup);
 #   - Playwright (`npm ci` in crates/sprung-viewer/web-tests, from its
 #     package-lock.json; it drives the Debian Chromium, it downloads no
-#     browser).
-# Node.js 20 or newer must be on the PATH (it is on the project's machines).
+#     browser);
+#   - a virtual environment target/python-venv with maturin, numpy,
+#     pytest, Pillow and pandas (python/requirements-test.txt, from PyPI).
+# Node.js 20 or newer and Python 3.9 or newer (python3, with its venv
+# module) must be on the PATH (they are on the project's machines).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -63,3 +68,16 @@ for example in crates/sprung/examples/*.rs; do
   echo "== cargo run -p sprung --example $name"
   cargo run -q -p sprung --example "$name" -- "$examples_out/$name"
 done
+
+echo "== python: maturin build, pytest python/tests"
+venv=target/python-venv
+if [ ! -x "$venv/bin/python" ]; then
+  python3 -m venv "$venv"
+fi
+"$venv/bin/pip" install -q --disable-pip-version-check -r python/requirements-test.txt
+rm -rf target/wheels
+(cd python && "../$venv/bin/maturin" build -q --interpreter "../$venv/bin/python" -o ../target/wheels)
+"$venv/bin/pip" install -q --disable-pip-version-check --force-reinstall --no-deps target/wheels/sprung-*.whl
+# The runs compared with the command line use the `sprung` that
+# `cargo test` built.
+SPRUNG_BIN="$PWD/target/debug/sprung" "$venv/bin/pytest" -q -p no:cacheprovider python/tests

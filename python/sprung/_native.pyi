@@ -1,0 +1,167 @@
+"""Type stubs of sprung's Rust extension (``sprung._native``).
+
+Units are SI: m, s, kg, N, J, Pa (in 2D: areas in m², pressures in N/m).
+Every array a World returns is a copy of its state at the call, never a
+view: it cannot outlive its World or change under a program's feet.
+"""
+
+from typing import Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ArrayLike = Union[npt.ArrayLike, Sequence[Sequence[float]]]
+
+
+def integrators() -> List[str]:
+    """The integrators' names, as ``World.integrator`` takes them."""
+
+
+def load(path: str, set: Optional[List[Tuple[str, object]]] = None) -> "World":
+    """Load a scene file (see ``sprung.load``)."""
+
+
+def loads(text: str, base_dir: Optional[str] = None,
+          set: Optional[List[Tuple[str, object]]] = None) -> "World":
+    """Build a World from scene text (see ``sprung.loads``)."""
+
+
+def run(scene: Union[str, "World"], steps: Optional[int], time: Optional[float],
+        every: Optional[int], integrator: Optional[str],
+        out: Optional[str]) -> Tuple[str, Optional[BaseException]]:
+    """Run a scene; the diagnostics CSV text and the error that stopped it
+    early, if any (see ``sprung.run``)."""
+
+
+def animate(world: "World", time: Optional[float], steps: Optional[int],
+            fps: float, width: int, height: int) -> bytes:
+    """Step ``world`` and return an animated GIF of it (see ``sprung.animate``)."""
+
+
+def plot(text: str, name: str = "run", width: int = 1000,
+         height: int = 600) -> List[Tuple[str, bytes]]:
+    """PNG plots of a diagnostics CSV text: ``energy``, and ``gas`` where a
+    body has gas."""
+
+
+class World:
+    """A simulated world: particles joined by springs, bodies, colliders.
+
+    Made by ``sprung.load`` or ``sprung.loads``.
+    """
+
+    dt: float
+    """The time step (s); set it to step by another."""
+    integrator: str
+    """The integrator's name (``sprung.integrators()``); set it to switch."""
+    positions: npt.NDArray[np.float64]
+    """Positions (m): a copy, ``(n, 3)``, ``(n, 2)`` in a 2D scene. Assign an
+    array of that shape to set them (the integrator starts afresh)."""
+    velocities: npt.NDArray[np.float64]
+    """Velocities (m/s): a copy, ``(n, 3)`` or ``(n, 2)``; assign to set
+    (pinned particles must stay at 0)."""
+    external_forces: npt.NDArray[np.float64]
+    """Force (N) applied from outside to each particle over the coming
+    steps: a copy, zeros when none; assign an array, or None to remove."""
+
+    @property
+    def time(self) -> float:
+        """Simulated time (s)."""
+    @property
+    def steps(self) -> int:
+        """Steps taken since the start."""
+    @property
+    def scene_steps(self) -> int:
+        """Steps the scene asks for (its ``duration`` or ``steps``)."""
+    @property
+    def dimension(self) -> int:
+        """2 for a 2D scene (every particle and gravity in z = 0 at load), else 3."""
+    @property
+    def path(self) -> str:
+        """The scene file (``<string>`` for text)."""
+    @property
+    def masses(self) -> npt.NDArray[np.float64]:
+        """Masses (kg): a copy, ``(n,)``."""
+    @property
+    def pinned(self) -> npt.NDArray[np.bool_]:
+        """Which particles are pinned: a copy, ``(n,)``."""
+    @property
+    def springs(self) -> npt.NDArray[np.int64]:
+        """Each spring's two particle indices: a copy, ``(m, 2)``."""
+    @property
+    def rest_lengths(self) -> npt.NDArray[np.float64]:
+        """Each spring's rest length (m): a copy, ``(m,)``."""
+    @property
+    def bodies(self) -> List[str]:
+        """The bodies' names in the scene's order."""
+
+    def step(self, n: int = 1) -> None:
+        """Advance ``n`` steps of ``dt``, with the GIL released; Ctrl-C stops
+        between steps (``KeyboardInterrupt``), the World usable.
+
+        Raises:
+            BlowUp: the state ran away (``.step``, ``.time``, ``.stable_dt``).
+            StepError: a step could not be taken.
+        """
+    def body(self, name: str) -> "Body":
+        """The body called ``name`` (``KeyError`` if none)."""
+    def energies(self) -> Dict[str, float]:
+        """Energies (J) by ``diagnostics.csv``'s column names: ``kinetic``,
+        each potential term, ``total``."""
+    def save_state(self, path: str) -> None:
+        """Save the state to ``path`` (written completely or not at all)."""
+    def load_state(self, path: str) -> None:
+        """Put back a state ``save_state`` wrote from the same scene
+        (``StateError`` otherwise; the World is then unchanged)."""
+    def copy(self) -> "World":
+        """A new World of the same scene in the same state."""
+    def picture(self, width: int = 640, height: int = 480) -> bytes:
+        """A PNG of the world now, drawn by ``sprung render``'s renderer."""
+    def _repr_png_(self) -> bytes:
+        """The picture Jupyter shows inline (640 × 480)."""
+
+
+class Body:
+    """One body of a World, read live; it keeps its World alive."""
+
+    nrt: Optional[float]
+    """The gas's nRT (J) now, None without gas. Setting it holds nRT at
+    that value from the next step on (ramp, schedule and leak dropped)."""
+
+    @property
+    def name(self) -> str:
+        """The body's name."""
+    @property
+    def indices(self) -> npt.NDArray[np.int64]:
+        """Its particles' indices in the World's arrays, ``(k,)``."""
+    @property
+    def volume(self) -> Optional[float]:
+        """Enclosed volume (m³; area, m², in 2D); None if not closed."""
+    @property
+    def pressure(self) -> Optional[float]:
+        """Gas pressure (Pa; N/m in 2D); None without gas."""
+    @property
+    def centroid(self) -> npt.NDArray[np.float64]:
+        """Centre of mass (m), ``(3,)`` or ``(2,)``."""
+
+
+class Batch:
+    """Worlds stepped together on Rust threads with the GIL released, each
+    bit for bit as if stepped alone, on any number of threads."""
+
+    def __init__(self, worlds: Sequence[World], threads: Optional[int] = None) -> None:
+        """``worlds`` (distinct Worlds) on ``threads`` threads (default:
+        every core, or ``SPRUNG_THREADS``)."""
+    @property
+    def worlds(self) -> List[World]:
+        """The worlds, in the order given."""
+    @property
+    def threads(self) -> int:
+        """The threads it runs on."""
+    def __len__(self) -> int: ...
+    def step(self, n: int = 1) -> None:
+        """Advance every world ``n`` steps in parallel. A world that blows
+        up stops there, the others finish, and ``BlowUp`` names the first
+        (``.world``, its index)."""

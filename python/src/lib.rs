@@ -1,0 +1,39 @@
+//! `sprung._native`: the engine inside the Python package `sprung`.
+//!
+//! The Python layer (`python/sprung/*.py`) gives the API its shape
+//! (`sprung.run`, `Diagnostics`, the exceptions); this module holds the
+//! worlds and does the work, with the GIL released while it steps.
+
+mod batch;
+mod errors;
+mod pictures;
+mod run;
+mod sim;
+mod world;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    sprung::parallel::configure_from_env();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<world::World>()?;
+    m.add_class::<world::Body>()?;
+    m.add_class::<batch::Batch>()?;
+    m.add_function(wrap_pyfunction!(world::load, m)?)?;
+    m.add_function(wrap_pyfunction!(world::loads, m)?)?;
+    m.add_function(wrap_pyfunction!(run::run, m)?)?;
+    m.add_function(wrap_pyfunction!(pictures::animate, m)?)?;
+    m.add_function(wrap_pyfunction!(pictures::plot, m)?)?;
+    m.add_function(wrap_pyfunction!(integrators, m)?)?;
+    Ok(())
+}
+
+/// The integrators' names, as `World.integrator` and scene files take them.
+#[pyfunction]
+fn integrators() -> Vec<&'static str> {
+    sprung::IntegratorKind::ALL
+        .iter()
+        .map(|k| k.name())
+        .collect()
+}

@@ -1,0 +1,124 @@
+//! Pictures for notebooks: a World drawn now (`_repr_png_`), a run as an
+//! animated GIF (`sprung.animate`), the energy and gas plots
+//! (`sprung.plot`); all by the renderer and plots of `sprung render` and
+//! `sprung plot`.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use pyo3::prelude::*;
+use sprung::Real;
+use sprung_view::plot::{energy_png, gas_png, DiagnosticsTable, PlotError, PlotOptions};
+use sprung_view::render::{
+    render_in_memory, steps_between_pictures, Model, RenderSettings, Snapshot, DEFAULT_FOV_DEGREES,
+};
+
+use crate::errors::{bad_value, failed};
+use crate::sim::Sim;
+use crate::world::World;
+
+/// Render settings of `width` × `height` pixels with the scene's camera.
+fn settings(sim: &Sim, width: u32, height: u32) -> RenderSettings {
+    let mut settings = RenderSettings::new(width, height);
+    let camera = sim.scene.camera;
+    settings.camera.eye = camera.eye;
+    settings.camera.target = camera.target;
+    settings.camera.fov_degrees = camera.fov.unwrap_or(DEFAULT_FOV_DEGREES);
+    settings
+}
+
+/// A PNG of `sim`'s world now.
+pub fn picture(py: Python<'_>, sim: &Sim, width: u32, height: u32) -> PyResult<Vec<u8>> {
+    let world = &sim.scene.world;
+    let model = Arc::new(Model::of_world(world));
+    let snapshot = Snapshot::of_world(world, &model);
+    let settings = settings(sim, width, height);
+    py.detach(|| {
+        let (pictures, _) = render_in_memory(std::slice::from_ref(&snapshot), &settings)?;
+        pictures[0].encode_png()
+    })
+    .map_err(|e| bad_value(e.to_string()))
+}
+
+/// Run `world` (a copy of it, when `copy`) for `time` (s) or `steps` and
+/// return an animated GIF of it: `fps` pictures per second of playback,
+/// each a `1/fps` s of simulated time apart (real time).
+#[pyfunction]
+#[pyo3(signature = (world, time=None, steps=None, fps=25.0, width=480, height=360))]
+pub fn animate(
+    py: Python<'_>,
+    world: &Bound<'_, World>,
+    time: Option<f64>,
+    steps: Option<u64>,
+    fps: f64,
+    width: u32,
+    height: u32,
+) -> PyResult<Vec<u8>> {
+    if !(fps.is_finite() && fps > 0.0) {
+        return Err(bad_value(format!(
+            "fps = {fps}: must be positive (pictures per second)"
+        )));
+    }
+    let mut world = world.borrow_mut();
+    let sim = world.sim_mut();
+    let steps = match (steps, time) {
+        (Some(_), Some(_)) => return Err(bad_value("give steps or time, not both")),
+        (Some(0), None) => return Err(bad_value("steps must be at least 1")),
+        (Some(n), None) => n,
+        (None, Some(t)) => sim
+            .scene
+            .steps_in(t)
+            .ok_or_else(|| bad_value(format!("time = {t}: must be a positive, finite time (s)")))?,
+        (None, None) => sim.scene.steps,
+    };
+    let every = steps_between_pictures(sim.scene.dt, fps as Real);
+    let pictures = steps / every + 2;
+    if pictures > 10_000 {
+        return Err(bad_value(format!(
+            "{pictures} pictures: at most 10000 in a GIF (lower fps, or animate a shorter time)"
+        )));
+    }
+    let mut settings = settings(sim, width, height);
+    settings.gif = true;
+    settings.fps = Some(fps);
+    let model = Arc::new(Model::of_world(&sim.scene.world));
+    let mut snapshots = vec![Snapshot::of_world(&sim.scene.world, &model)];
+    let mut taken = 0;
+    while taken < steps {
+        let chunk = every.min(steps - taken);
+        crate::world::step_sim(py, sim, chunk)?;
+        taken += chunk;
+        snapshots.push(Snapshot::of_world(&sim.scene.world, &model));
+    }
+    let (_, gif) = py
+        .detach(|| render_in_memory(&snapshots, &settings))
+        .map_err(|e| bad_value(e.to_string()))?;
+    gif.ok_or_else(|| failed("no GIF was made"))
+}
+
+/// The PNG plots of a diagnostics table's CSV `text` (named `name`):
+/// `energy`, and `gas` where a body has gas, as `sprung plot` draws them.
+#[pyfunction]
+#[pyo3(signature = (text, name="run", width=1000, height=600))]
+pub fn plot(
+    py: Python<'_>,
+    text: &str,
+    name: &str,
+    width: u32,
+    height: u32,
+) -> PyResult<Vec<(String, Vec<u8>)>> {
+    let options = PlotOptions {
+        width,
+        height,
+        ..PlotOptions::default()
+    };
+    py.detach(|| {
+        let table = DiagnosticsTable::parse(text, Path::new(name))?;
+        let mut pngs = vec![("energy".to_string(), energy_png(&table, name, &options)?)];
+        if let Some(gas) = gas_png(&table, name, &options)? {
+            pngs.push(("gas".to_string(), gas));
+        }
+        Ok::<_, PlotError>(pngs)
+    })
+    .map_err(|e| bad_value(e.to_string()))
+}

@@ -1,0 +1,126 @@
+//! `sprung.run`: a whole run as the command line does it, its
+//! diagnostics returned (and written, with `out`).
+
+use std::path::PathBuf;
+
+use pyo3::prelude::*;
+use sprung::IntegratorKind;
+use sprung_io::export::{AtomicFile, Diagnostics};
+
+use crate::errors::{bad_value, failed, step_error};
+use crate::sim::{Sim, SIGNAL_CHECK};
+use crate::world::{load_sim, World};
+
+/// What `run` gives back: the CSV text of `diagnostics.csv`, and the
+/// blow-up that stopped the run early, if one did (as a Python exception
+/// carrying the rows so far).
+type Ran = (String, Option<PyErr>);
+
+/// Run a scene (a path or a World) as `sprung run` does and return the
+/// text of its `diagnostics.csv`; with `out`, also write it there.
+#[pyfunction]
+#[pyo3(signature = (scene, steps=None, time=None, every=None, integrator=None, out=None))]
+pub fn run(
+    py: Python<'_>,
+    scene: Bound<'_, PyAny>,
+    steps: Option<u64>,
+    time: Option<f64>,
+    every: Option<u64>,
+    integrator: Option<String>,
+    out: Option<PathBuf>,
+) -> PyResult<Ran> {
+    let integrator: Option<IntegratorKind> = integrator
+        .map(|name| name.parse::<IntegratorKind>().map_err(|e| bad_value(e.to_string())))
+        .transpose()?;
+    if let Ok(world) = scene.cast::<World>() {
+        let mut world = world.borrow_mut();
+        run_sim(py, world.sim_mut(), (steps, time, every), integrator, out)
+    } else {
+        let path: PathBuf = scene
+            .extract()
+            .map_err(|_| bad_value("scene: give a scene file's path or a sprung.World"))?;
+        let mut sim = load_sim(py, &path)?;
+        run_sim(py, &mut sim, (steps, time, every), integrator, out)
+    }
+}
+
+/// `run` on a loaded scene.
+fn run_sim(
+    py: Python<'_>,
+    sim: &mut Sim,
+    (steps, time, every): (Option<u64>, Option<f64>, Option<u64>),
+    integrator: Option<IntegratorKind>,
+    out: Option<PathBuf>,
+) -> PyResult<Ran> {
+    if let Some(kind) = integrator {
+        sim.scene.world.set_integrator(kind);
+    }
+    let steps = match (steps, time) {
+        (Some(_), Some(_)) => return Err(bad_value("give steps or time, not both")),
+        (Some(0), None) => return Err(bad_value("steps must be at least 1")),
+        (Some(n), None) => n,
+        (None, Some(t)) => sim.scene.steps_in(t).ok_or_else(|| {
+            bad_value(format!(
+                "time = {t}: must be a positive, finite time (s) of at most {:.0e} steps",
+                sprung_io::scene::MAX_STEPS as f64
+            ))
+        })?,
+        (None, None) => sim.scene.steps,
+    };
+    if every == Some(0) {
+        return Err(bad_value("every must be at least 1"));
+    }
+    let every = sim.scene.record_every(every);
+    sim.scene
+        .world
+        .contact_pairs_now(sim.scene.dt)
+        .map_err(|e| bad_value(e.to_string()))?;
+    if let Some(out) = &out {
+        std::fs::create_dir_all(out)
+            .map_err(|e| failed(format!("cannot create {}: {e}", out.display())))?;
+    }
+    let mut table = Diagnostics::in_memory(&sim.scene.world, &[]);
+    let record = |table: &mut Diagnostics, sim: &Sim| {
+        table
+            .record(&sim.scene.world)
+            .map_err(|e| failed(e.to_string()))
+    };
+    record(&mut table, sim)?;
+    // The rows of `sprung run`: the start, every `every` steps, the end.
+    let first = sim.scene.world.steps() + 1;
+    let last = first - 1 + steps;
+    let mut blow_up = None;
+    let mut step = first;
+    while step <= last {
+        let record_at = (step.div_ceil(every) * every).min(last);
+        let (done, result) = py.detach(|| sim.step_for(record_at + 1 - step, SIGNAL_CHECK));
+        step += done;
+        if let Err(error) = result {
+            blow_up = Some(step_error(py, &error));
+            break;
+        }
+        if step - 1 == record_at {
+            record(&mut table, sim)?;
+        }
+        if let Err(interrupt) = py.check_signals() {
+            // Stopped between steps: the rows so far are kept, as the
+            // command line keeps them.
+            write(out.as_deref(), table.text())?;
+            return Err(interrupt);
+        }
+    }
+    let text = table.text().to_string();
+    write(out.as_deref(), &text)?;
+    Ok((text, blow_up))
+}
+
+/// Write `text` to `out/diagnostics.csv`, complete or not at all, when
+/// `out` is given.
+fn write(out: Option<&std::path::Path>, text: &str) -> PyResult<()> {
+    if let Some(out) = out {
+        let path = out.join("diagnostics.csv");
+        AtomicFile::write(&path, text.as_bytes())
+            .map_err(|e| failed(format!("cannot write {}: {e}", path.display())))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,90 @@
+//! A scene being simulated, as the Python `World` and `Batch` hold it:
+//! plain Rust, stepped with the GIL released.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use sprung::forces::AppliedForces;
+use sprung::{StepError, Vec3};
+use sprung_io::Scene;
+
+/// How long a call steps between looks at Python's signals (Ctrl-C).
+pub const SIGNAL_CHECK: Duration = Duration::from_millis(50);
+
+/// A loaded scene with what the Python side adds to it.
+#[derive(Debug)]
+pub struct Sim {
+    /// The world, its time step and how it is run.
+    pub scene: Scene,
+    /// The scene's TOML text, to build copies from.
+    pub text: String,
+    /// A 2D scene: every particle and gravity in the plane z = 0 at
+    /// load; arrays have two columns.
+    pub planar: bool,
+}
+
+impl Sim {
+    /// A `scene` built from `text`.
+    pub fn new(scene: Scene, text: String) -> Self {
+        let world = &scene.world;
+        let planar =
+            world.gravity().z == 0.0 && world.particles.position.iter().all(|p| p.z == 0.0);
+        Sim {
+            scene,
+            text,
+            planar,
+        }
+    }
+
+    /// The scene file's path (relative paths inside it start from its folder).
+    pub fn path(&self) -> PathBuf {
+        self.scene.path.clone()
+    }
+
+    /// Take up to `steps` steps, stopping early once `budget` has passed
+    /// (so the caller can look at its signals); the steps taken, and the
+    /// error that stopped them, if any.
+    pub fn step_for(&mut self, steps: u64, budget: Duration) -> (u64, Result<(), StepError>) {
+        let large = self.scene.world.particles.len() >= sprung::parallel::CHUNK;
+        let (world, dt) = (&mut self.scene.world, self.scene.dt);
+        let mut run = move || {
+            let start = Instant::now();
+            for done in 0..steps {
+                if let Err(error) = world.step(dt) {
+                    return (done, Err(error));
+                }
+                if done % 16 == 15 && start.elapsed() > budget {
+                    return (done + 1, Ok(()));
+                }
+            }
+            (steps, Ok(()))
+        };
+        // A large world's loops start from the pool itself (see
+        // `sprung::parallel::in_pool`); a small one's run here, paying
+        // nothing for a hand-over.
+        if large {
+            sprung::parallel::in_pool(run)
+        } else {
+            run()
+        }
+    }
+
+    /// The force applied to each particle from outside, if set.
+    pub fn applied(&self) -> Option<&[Vec3]> {
+        self.scene
+            .world
+            .forces
+            .get::<AppliedForces>()
+            .map(|f| f.force.as_slice())
+    }
+
+    /// Apply `force` (N, one per particle) from now on; `None` takes it away.
+    pub fn set_applied(&mut self, force: Option<Vec<Vec3>>) {
+        match force {
+            Some(force) => self.scene.world.forces.set(AppliedForces { force }),
+            None => {
+                self.scene.world.forces.remove::<AppliedForces>();
+            }
+        }
+    }
+}
