@@ -30,7 +30,10 @@ pub fn run(
     out: Option<PathBuf>,
 ) -> PyResult<Ran> {
     let integrator: Option<IntegratorKind> = integrator
-        .map(|name| name.parse::<IntegratorKind>().map_err(|e| bad_value(e.to_string())))
+        .map(|name| {
+            name.parse::<IntegratorKind>()
+                .map_err(|e| bad_value(e.to_string()))
+        })
         .transpose()?;
     if let Ok(world) = scene.cast::<World>() {
         let mut world = world.borrow_mut();

@@ -345,7 +345,9 @@ impl World {
 
     #[setter]
     fn set_integrator(&mut self, name: &str) -> PyResult<()> {
-        let kind: IntegratorKind = name.parse::<IntegratorKind>().map_err(|e| bad_value(e.to_string()))?;
+        let kind: IntegratorKind = name
+            .parse::<IntegratorKind>()
+            .map_err(|e| bad_value(e.to_string()))?;
         self.sim_mut().scene.world.set_integrator(kind);
         Ok(())
     }
