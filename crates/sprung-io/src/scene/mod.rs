@@ -203,7 +203,7 @@ pub fn parse_scene_with(
         let line = line_of_entry(text, span.start, &keys, &message)
             .or_else(|| line_of_key(text, span.start, &keys))
             .unwrap_or_else(|| line_of(text, span.start));
-        SceneError::new(path, Some(line), message)
+        SceneError::new(path, Some(line), message).with_key(key)
     };
     let sim = file.sim.get_ref();
     let (integrator, dt, steps) = timing(sim).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
