@@ -45,8 +45,9 @@ pub struct SceneError {
     pub message: String,
     /// The key the error is about, where known: as written in its table
     /// (`dt`, `stiffness`, `timestep` for a misspelt key, `rope` for a
-    /// builder's table). Not part of the [`Display`](fmt::Display) text,
-    /// whose message names it already.
+    /// builder's table), or the dotted key of an override
+    /// (`body.ball.stiffness`, [`Override`](super::Override)). Not part of
+    /// the [`Display`](fmt::Display) text, whose message names it already.
     pub key: Option<String>,
 }
 
