@@ -28,6 +28,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use sprung::IntegratorKind;
 use sprung_io::export::OutputFormat;
+use sprung_io::Override;
 
 /// A mass-spring-damper simulator of elastic materials.
 #[derive(Debug, Parser)]
@@ -64,6 +65,10 @@ enum Command {
     Check {
         /// The scene file (TOML).
         scene: PathBuf,
+        /// Set a key of the scene: `sim.dt=1e-4`, `body.NAME.stiffness=200`,
+        /// `collider.0.friction=0.5` (repeatable; docs/scenes.md, "Overrides").
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<Override>,
     },
     /// Draw a scene or a finished run: PNG frames and an animated GIF.
     Render(render::RenderArgs),
@@ -107,6 +112,10 @@ pub struct RunOptions {
     /// Override the scene's integrator.
     #[arg(long)]
     integrator: Option<IntegratorKind>,
+    /// Set a key of the scene: `sim.dt=1e-4`, `body.NAME.stiffness=200`,
+    /// `collider.0.friction=0.5` (repeatable; docs/scenes.md, "Overrides").
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<Override>,
     /// Save the world's state to FILE at the end of the run (also when it
     /// is interrupted), to go on later with --resume.
     #[arg(long, value_name = "FILE")]
@@ -163,7 +172,7 @@ fn main() -> ExitCode {
             }
         }
         Command::Bench(args) => bench::run(&args),
-        Command::Check { scene } => check::run(&scene),
+        Command::Check { scene, set } => check::run(&scene, &set),
         Command::Render(args) => render::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::View(args) => view::run(&args),

@@ -8,7 +8,7 @@ use std::time::Duration;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
 use sprung::error::{Readable, Seconds};
 use sprung::{Real, StepError};
-use sprung_io::{load_scene, Scene, SceneError};
+use sprung_io::{load_scene_overridden, Scene, SceneError};
 
 use crate::checkpoint;
 use crate::interrupt::{self, Signal};
@@ -67,9 +67,10 @@ impl From<SceneError> for CliError {
     }
 }
 
-/// `sprung run SCENE`: load the file, then [`run_scene`].
+/// `sprung run SCENE`: load the file with the `--set` overrides, then
+/// [`run_scene`].
 pub fn run_file(path: &Path, options: &RunOptions) -> Result<(), CliError> {
-    let scene = load_scene(path)?;
+    let scene = load_scene_overridden(path, &options.set)?;
     let stem = path
         .file_stem()
         .unwrap_or_default()

@@ -1,0 +1,130 @@
+//! `--set KEY=VALUE` on `run`, `check` and `render`.
+
+mod common;
+
+use common::{assert_no_partial_files, sprung, text, write};
+
+use std::path::Path;
+
+const ROPE: &str = r#"# a hanging rope
+[sim]
+dt = 1e-3
+steps = 40
+every = 10
+
+[[body]]
+name = "rope"
+rope = { particles = 6, length = 1.0 }
+stiffness = 500.0
+"#;
+
+/// The bytes of `dir/name`.
+fn read(dir: &Path, name: &str) -> Vec<u8> {
+    std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// The `time` column (the second) of a diagnostics.csv.
+fn times(csv: &[u8]) -> Vec<String> {
+    String::from_utf8_lossy(csv)
+        .lines()
+        .skip(1)
+        .map(|row| row.split(',').nth(1).expect("time").to_string())
+        .collect()
+}
+
+#[test]
+fn set_dt_runs_what_the_edited_file_runs() {
+    // Claim: `--set sim.dt=2e-3` writes the diagnostics.csv, byte for byte,
+    // of the file with `dt = 2e-3` written in: rows at t = 0.02, 0.04, ...
+    // instead of 0.01, 0.02, ...
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "rope.toml", ROPE);
+    write(
+        dir.path(),
+        "edited.toml",
+        &ROPE.replace("dt = 1e-3", "dt = 2e-3"),
+    );
+    let run = |args: &[&str]| {
+        let output = sprung(args, dir.path());
+        assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+    };
+    run(&["run", "rope.toml", "--out", "plain", "--quiet"]);
+    run(&[
+        "run",
+        "rope.toml",
+        "--out",
+        "set",
+        "--set",
+        "sim.dt=2e-3",
+        "--quiet",
+    ]);
+    run(&["run", "edited.toml", "--out", "edited", "--quiet"]);
+    let plain = read(dir.path(), "plain/diagnostics.csv");
+    let set = read(&dir.path().join("set"), "diagnostics.csv");
+    assert_eq!(set, read(dir.path(), "edited/diagnostics.csv"));
+    assert_eq!(times(&plain)[..3], ["0", "0.01", "0.02"]);
+    assert_eq!(times(&set)[..3], ["0", "0.02", "0.04"]);
+    assert_no_partial_files(dir.path());
+}
+
+#[test]
+fn a_bad_override_exits_1_naming_its_key() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "rope.toml", ROPE);
+    for (set, fragment) in [
+        (
+            "body.rope.stifness=1",
+            "rope.toml: `--set body.rope.stifness`: unknown field `stifness`, expected one of `name`, ",
+        ),
+        (
+            "body.chain.mass=1",
+            "rope.toml: `--set body.chain.mass`: there is no body named \"chain\": the bodies are \"rope\"",
+        ),
+        (
+            "sim.dt=\"fast\"",
+            "rope.toml: `--set sim.dt`: invalid type: string \"fast\", expected f64",
+        ),
+        (
+            "collider.0.friction=1",
+            "rope.toml: `--set collider.0.friction`: there is no collider 0: the scene has no colliders",
+        ),
+    ] {
+        for command in ["run", "check", "render"] {
+            let output = sprung(&[command, "rope.toml", "--set", set], dir.path());
+            let stderr = text(&output.stderr);
+            assert_eq!(output.status.code(), Some(1), "{command} {set}: {stderr}");
+            assert!(stderr.contains(fragment), "{command} {set}: {stderr}");
+        }
+    }
+    // Nothing was run, nothing written.
+    assert_eq!(std::fs::read_dir(dir.path()).expect("dir").count(), 1);
+    // Not KEY=VALUE: a malformed command line, exit 2.
+    let output = sprung(&["run", "rope.toml", "--set", "sim.dt"], dir.path());
+    assert_eq!(output.status.code(), Some(2));
+    assert!(text(&output.stderr).contains("`sim.dt`: expected KEY=VALUE"));
+}
+
+#[test]
+fn check_reports_the_overridden_scene() {
+    // `check --set` loads the scene with the overrides: 40 steps of the
+    // new dt, and the integrator named by a bare word.
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "rope.toml", ROPE);
+    let output = sprung(
+        &[
+            "check",
+            "rope.toml",
+            "--set",
+            "sim.dt=5e-4",
+            "--set",
+            "sim.integrator=rk4",
+        ],
+        dir.path(),
+    );
+    let stdout = text(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+    assert!(
+        stdout.contains("40 steps of dt = 0.0005 s with rk4 (0.02 s)"),
+        "{stdout}"
+    );
+}
