@@ -78,7 +78,7 @@ pub fn run(name: Option<&str>, options: &RunOptions) -> Result<(), CliError> {
             options.resume = resume.as_deref().map(|p| per_integrator(p, kind));
         }
         options.integrator = kind;
-        run_scene(scene, &folder, &options)?;
+        run_scene(scene, &folder, &options, None)?;
     }
     if !options.quiet {
         let frames = match options.format {

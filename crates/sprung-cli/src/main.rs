@@ -18,6 +18,7 @@ mod outputs;
 mod plot;
 mod render;
 mod run;
+mod scene_file;
 mod study;
 mod values;
 mod view;

@@ -1,4 +1,6 @@
-//! `--set KEY=VALUE` on `run`, `check` and `render`.
+//! `--set KEY=VALUE` on `run`, `check` and `render`, and the effective
+//! scene a run keeps in its folder (`scene.toml`, with its meshes), which
+//! repeats the run.
 
 mod common;
 
@@ -64,6 +66,14 @@ fn set_dt_runs_what_the_edited_file_runs() {
     assert_eq!(set, read(dir.path(), "edited/diagnostics.csv"));
     assert_eq!(times(&plain)[..3], ["0", "0.01", "0.02"]);
     assert_eq!(times(&set)[..3], ["0", "0.02", "0.04"]);
+    // The run's folder keeps the effective scene: the file as given when
+    // nothing is overridden, else the tables with the override.
+    assert_eq!(read(dir.path(), "plain/scene.toml"), ROPE.as_bytes());
+    let effective = String::from_utf8(read(dir.path(), "set/scene.toml")).expect("utf-8");
+    assert!(
+        effective.starts_with("[sim]\ndt = 0.002\nsteps = 40\n"),
+        "{effective}"
+    );
     assert_no_partial_files(dir.path());
 }
 
@@ -127,4 +137,65 @@ fn check_reports_the_overridden_scene() {
         stdout.contains("40 steps of dt = 0.0005 s with rk4 (0.02 s)"),
         "{stdout}"
     );
+}
+
+#[test]
+fn the_scene_kept_in_the_run_folder_repeats_the_run_from_the_folder_alone() {
+    // poke.toml's horse mesh, overridden: the run's folder holds scene.toml
+    // and meshes/horse.obj, and the folder moved elsewhere runs again to
+    // the same diagnostics.csv, byte for byte.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/poke.toml");
+    let options = ["--steps", "6", "--every", "2", "--quiet"];
+    let first = sprung(
+        &[
+            &[
+                "run",
+                scene.to_str().expect("utf-8 path"),
+                "--out",
+                "first",
+                "--set",
+                "body.horse.gas.nrt=300",
+                "--set",
+                "sim.dt=2e-4",
+            ][..],
+            &options,
+        ]
+        .concat(),
+        dir.path(),
+    );
+    assert_eq!(first.status.code(), Some(0), "{}", text(&first.stderr));
+    let kept = String::from_utf8(read(dir.path(), "first/scene.toml")).expect("utf-8");
+    assert!(kept.contains("mesh = \"meshes/horse.obj\"\n"), "{kept}");
+    assert!(
+        kept.contains("dt = 0.0002\n") && kept.contains("nrt = 300\n"),
+        "{kept}"
+    );
+    assert_eq!(
+        read(dir.path(), "first/meshes/horse.obj"),
+        std::fs::read(scene.with_file_name("meshes/horse.obj")).expect("the horse")
+    );
+    std::fs::rename(dir.path().join("first"), dir.path().join("moved")).expect("move");
+    let again = sprung(
+        &[&["run", "moved/scene.toml", "--out", "again"][..], &options].concat(),
+        dir.path(),
+    );
+    assert_eq!(again.status.code(), Some(0), "{}", text(&again.stderr));
+    assert_eq!(
+        read(dir.path(), "again/diagnostics.csv"),
+        read(dir.path(), "moved/diagnostics.csv")
+    );
+    // Run into its own folder, the kept scene and mesh are rewritten in
+    // place, whole.
+    let own = sprung(
+        &[&["run", "moved/scene.toml", "--out", "moved"][..], &options].concat(),
+        dir.path(),
+    );
+    assert_eq!(own.status.code(), Some(0), "{}", text(&own.stderr));
+    assert_eq!(read(dir.path(), "moved/scene.toml"), kept.as_bytes());
+    assert_eq!(
+        read(dir.path(), "moved/meshes/horse.obj"),
+        read(dir.path(), "again/meshes/horse.obj")
+    );
+    assert_no_partial_files(dir.path());
 }
