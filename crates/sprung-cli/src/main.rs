@@ -47,8 +47,12 @@ struct Cli {
 enum Command {
     /// Run a scene file and write DIR/diagnostics.csv (and frames, with --format).
     Run {
-        /// The scene file (TOML).
+        /// The scene file (TOML), or `-` to read it from standard input.
         scene: PathBuf,
+        /// Where the relative paths (meshes) of a scene read from standard
+        /// input start (default: the current folder).
+        #[arg(long, value_name = "DIR")]
+        base_dir: Option<PathBuf>,
         #[command(flatten)]
         options: RunOptions,
     },
@@ -157,9 +161,11 @@ fn main() -> ExitCode {
         return ExitCode::from(1);
     }
     let result = match cli.command {
-        Command::Run { scene, options } => {
-            sprung::parallel::in_pool(|| run::run_file(&scene, &options))
-        }
+        Command::Run {
+            scene,
+            base_dir,
+            options,
+        } => sprung::parallel::in_pool(|| run::run_file(&scene, base_dir.as_deref(), &options)),
         Command::Demo {
             name,
             list,

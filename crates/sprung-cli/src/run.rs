@@ -68,10 +68,15 @@ impl From<SceneError> for CliError {
     }
 }
 
-/// `sprung run SCENE`: read the file, apply the `--set` overrides, then
+/// `sprung run SCENE`: read the file (standard input for `-`, its
+/// relative paths from `base_dir`), apply the `--set` overrides, then
 /// [`run_scene`], which keeps the effective scene in the run's folder.
-pub fn run_file(path: &Path, options: &RunOptions) -> Result<(), CliError> {
-    let input = SceneInput::read(path)?;
+pub fn run_file(
+    path: &Path,
+    base_dir: Option<&Path>,
+    options: &RunOptions,
+) -> Result<(), CliError> {
+    let input = SceneInput::read(path, base_dir)?;
     let scene = input.load(&options.set)?;
     let copy = input.copy(&options.set)?;
     let out = options.out.clone().unwrap_or_else(|| input.default_out());

@@ -1,51 +1,115 @@
-//! The scene `sprung run` reads, with its `--set` overrides; and the copy
-//! of the effective scene it keeps in the run's folder, `scene.toml` with
-//! the meshes it names in `meshes/`, so that `sprung run OUT/scene.toml`
-//! repeats the run from the folder alone.
+//! The scene `sprung run` reads, from a file or from standard input (`-`),
+//! with its `--set` overrides; and the copy of the effective scene it
+//! keeps in the run's folder, `scene.toml` with the meshes it names in
+//! `meshes/`, so that `sprung run OUT/scene.toml` repeats the run from the
+//! folder alone.
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use sprung_io::export::AtomicFile;
-use sprung_io::input::{read_input, DEFAULT_MAX_SCENE_BYTES};
+use sprung_io::input::{max_input_bytes, read_input, DEFAULT_MAX_SCENE_BYTES};
 use sprung_io::scene::{overridden_table, scene_text, scene_toml};
 use sprung_io::toml::Value;
 use sprung_io::{parse_scene_overridden, Disk, FileSource, Override, Scene, SceneError};
 
 use crate::run::CliError;
 
+/// The name of standard input in messages and as the scene's path.
+const STDIN: &str = "<stdin>";
+
 /// A scene's text and where it came from.
 pub struct SceneInput {
     /// The text, UTF-8.
     text: String,
-    /// Its name in messages: the file.
+    /// Its name in messages: the file, or `<stdin>`.
     pub path: PathBuf,
     /// The folder its relative paths (meshes) start from.
     dir: PathBuf,
+    /// Read from standard input.
+    stdin: bool,
+}
+
+/// Files read from the disk, relative paths from `0`: the meshes of a
+/// scene read from standard input.
+struct BaseDir(PathBuf);
+
+impl FileSource for BaseDir {
+    fn read(&self, path: &Path) -> std::io::Result<Vec<u8>> {
+        Disk.read(&self.0.join(path))
+    }
 }
 
 impl SceneInput {
-    /// Read the scene file at `path`.
-    pub fn read(path: &Path) -> Result<Self, CliError> {
-        let bytes = read_input(path, DEFAULT_MAX_SCENE_BYTES)
-            .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    /// Read the scene file at `path`, or standard input for `-`, whose
+    /// relative paths start from `base_dir` (default: the current folder).
+    pub fn read(path: &Path, base_dir: Option<&Path>) -> Result<Self, CliError> {
+        if path != Path::new("-") {
+            if let Some(dir) = base_dir {
+                return Err(CliError::Input(format!(
+                    "--base-dir {}: applies to a scene read from standard input (`-`); a scene file's paths start from its own folder",
+                    dir.display()
+                )));
+            }
+            let bytes = read_input(path, DEFAULT_MAX_SCENE_BYTES).map_err(|e| {
+                SceneError::new(path, None, format!("cannot read the scene file: {e}"))
+            })?;
+            return Ok(SceneInput {
+                text: scene_text(&bytes, path)?.to_string(),
+                path: path.to_path_buf(),
+                dir: path.parent().unwrap_or(Path::new("")).to_path_buf(),
+                stdin: false,
+            });
+        }
+        let name = Path::new(STDIN);
+        let unreadable = |e: std::io::Error| {
+            SceneError::new(
+                name,
+                None,
+                format!("cannot read the scene from standard input: {e}"),
+            )
+        };
+        let limit = max_input_bytes(DEFAULT_MAX_SCENE_BYTES).map_err(unreadable)?;
+        let mut bytes = Vec::new();
+        std::io::stdin()
+            .lock()
+            .take(limit + 1)
+            .read_to_end(&mut bytes)
+            .map_err(unreadable)?;
+        if bytes.len() as u64 > limit {
+            return Err(unreadable(std::io::Error::other(format!(
+                "more than the {limit} bytes a scene may have (set {} to raise the limit)",
+                sprung_io::input::MAX_INPUT_VARIABLE
+            )))
+            .into());
+        }
         Ok(SceneInput {
-            text: scene_text(&bytes, path)?.to_string(),
-            path: path.to_path_buf(),
-            dir: path.parent().unwrap_or(Path::new("")).to_path_buf(),
+            text: scene_text(&bytes, name)?.to_string(),
+            path: name.to_path_buf(),
+            dir: base_dir.unwrap_or(Path::new("")).to_path_buf(),
+            stdin: true,
         })
     }
 
-    /// The default output folder: out/STEM.
+    /// The default output folder: out/STEM, or out/stdin.
     pub fn default_out(&self) -> PathBuf {
-        let stem = self.path.file_stem().unwrap_or_default().to_string_lossy();
+        let stem = match self.stdin {
+            true => "stdin".into(),
+            false => self.path.file_stem().unwrap_or_default().to_string_lossy(),
+        };
         Path::new("out").join(stem.as_ref())
     }
 
     /// Build the scene with `overrides` applied.
     pub fn load(&self, overrides: &[Override]) -> Result<Scene, CliError> {
-        Ok(parse_scene_overridden(
-            &self.text, &self.path, overrides, &Disk,
-        )?)
+        let scene = match self.stdin {
+            true => {
+                let files = BaseDir(self.dir.clone());
+                parse_scene_overridden(&self.text, &self.path, overrides, &files)
+            }
+            false => parse_scene_overridden(&self.text, &self.path, overrides, &Disk),
+        };
+        Ok(scene?)
     }
 
     /// The copy of the effective scene (with `overrides`) for a run's

@@ -1,12 +1,14 @@
-//! `--set KEY=VALUE` on `run`, `check` and `render`, and the effective
-//! scene a run keeps in its folder (`scene.toml`, with its meshes), which
-//! repeats the run.
+//! `--set KEY=VALUE` on `run`, `check` and `render`, a scene read from
+//! standard input (`run -`), and the effective scene a run keeps in its
+//! folder (`scene.toml`, with its meshes), which repeats the run.
 
 mod common;
 
 use common::{assert_no_partial_files, sprung, text, write};
 
+use std::io::Write;
 use std::path::Path;
+use std::process::{Command, Output, Stdio};
 
 const ROPE: &str = r#"# a hanging rope
 [sim]
@@ -32,6 +34,25 @@ fn times(csv: &[u8]) -> Vec<String> {
         .skip(1)
         .map(|row| row.split(',').nth(1).expect("time").to_string())
         .collect()
+}
+
+/// Run `sprung` with `args` in `dir`, `input` on its standard input.
+fn sprung_with_input(args: &[&str], dir: &Path, input: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sprung"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the sprung binary runs");
+    child
+        .stdin
+        .take()
+        .expect("stdin")
+        .write_all(input.as_bytes())
+        .expect("write stdin");
+    child.wait_with_output().expect("sprung ends")
 }
 
 #[test]
@@ -136,6 +157,46 @@ fn check_reports_the_overridden_scene() {
     assert!(
         stdout.contains("40 steps of dt = 0.0005 s with rk4 (0.02 s)"),
         "{stdout}"
+    );
+}
+
+#[test]
+fn a_scene_from_standard_input_runs_as_the_file_does() {
+    // `run -` reads the scene from standard input: the same diagnostics as
+    // the file, in out/stdin by default; its meshes are found from the
+    // current folder, or from --base-dir.
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "rope.toml", ROPE);
+    let file = sprung(&["run", "rope.toml", "--quiet"], dir.path());
+    assert_eq!(file.status.code(), Some(0), "{}", text(&file.stderr));
+    let piped = sprung_with_input(&["run", "-", "--quiet"], dir.path(), ROPE);
+    assert_eq!(piped.status.code(), Some(0), "{}", text(&piped.stderr));
+    assert_eq!(
+        read(dir.path(), "out/stdin/diagnostics.csv"),
+        read(dir.path(), "out/rope/diagnostics.csv")
+    );
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let poke = std::fs::read_to_string(scenes.join("poke.toml")).expect("poke");
+    let args = ["run", "-", "--steps", "1", "--out", "poke", "--quiet"];
+    let lost = sprung_with_input(&args, dir.path(), &poke);
+    assert_eq!(lost.status.code(), Some(1));
+    assert!(
+        text(&lost.stderr).contains("<stdin>:12: body \"horse\": meshes/horse.obj: cannot read"),
+        "{}",
+        text(&lost.stderr)
+    );
+    let base = scenes.to_str().expect("utf-8 path");
+    let found = sprung_with_input(
+        &[&args[..], &["--base-dir", base]].concat(),
+        dir.path(),
+        &poke,
+    );
+    assert_eq!(found.status.code(), Some(0), "{}", text(&found.stderr));
+    // --base-dir is for standard input only.
+    let output = sprung(&["run", "rope.toml", "--base-dir", "."], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        text(&output.stderr).contains("--base-dir .: applies to a scene read from standard input")
     );
 }
 
