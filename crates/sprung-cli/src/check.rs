@@ -10,7 +10,7 @@ use sprung::forces::{
 };
 use sprung::world::MAX_SUBSTEPS;
 use sprung::{IntegratorKind, Real, Shape, Substeps, World};
-use sprung_io::load_scene;
+use sprung_io::{load_scene_overridden, Override};
 
 use crate::bench::memory;
 use crate::run::CliError;
@@ -28,11 +28,11 @@ const SPRING_BYTES: u64 = 4 + 4 + 3 * 8 + 1 + 8;
 /// pairs, each search chunk's copy and the buckets' copy.
 const PAIR_BYTES: u64 = 3 * 48;
 
-/// Check the scene at `path`: exit status 0 when it loads, 1 (with the
-/// error) when it does not.
-pub fn run(path: &Path) -> Result<(), CliError> {
+/// Check the scene at `path` with `overrides` applied: exit status 0 when
+/// it loads, 1 (with the error) when it does not.
+pub fn run(path: &Path, overrides: &[Override]) -> Result<(), CliError> {
     let loading = memory::mark();
-    let scene = load_scene(path)?;
+    let scene = load_scene_overridden(path, overrides)?;
     let load_peak = loading.peak();
     let world = &scene.world;
     let faces: usize = world.bodies.iter().map(|b| b.faces.len()).sum();

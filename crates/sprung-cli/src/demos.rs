@@ -4,8 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use sprung::IntegratorKind;
-use sprung_io::demos::{self, DEFAULT_DEMO, DEMOS};
+use sprung_io::demos::{self, Bundled, DEFAULT_DEMO, DEMOS};
 use sprung_io::export::{FrameFormat, OutputFormat};
+use sprung_io::parse_scene_overridden;
 
 use crate::run::{run_scene, CliError};
 use crate::RunOptions;
@@ -65,7 +66,7 @@ pub fn run(name: Option<&str>, options: &RunOptions) -> Result<(), CliError> {
     };
     let (save_state, resume) = (options.save_state.clone(), options.resume.clone());
     for kind in kinds {
-        let scene = demo.load()?;
+        let scene = parse_scene_overridden(demo.text, &demo.path(), &options.set, &Bundled)?;
         let folder = match (demo.every_integrator, kind) {
             (true, Some(kind)) => out.join(kind.name()),
             _ => out.clone(),
@@ -77,7 +78,7 @@ pub fn run(name: Option<&str>, options: &RunOptions) -> Result<(), CliError> {
             options.resume = resume.as_deref().map(|p| per_integrator(p, kind));
         }
         options.integrator = kind;
-        run_scene(scene, &folder, &options)?;
+        run_scene(scene, &folder, &options, None)?;
     }
     if !options.quiet {
         let frames = match options.format {

@@ -18,6 +18,7 @@ mod outputs;
 mod plot;
 mod render;
 mod run;
+mod scene_file;
 mod study;
 mod values;
 mod view;
@@ -28,6 +29,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use sprung::IntegratorKind;
 use sprung_io::export::OutputFormat;
+use sprung_io::Override;
 
 /// A mass-spring-damper simulator of elastic materials.
 #[derive(Debug, Parser)]
@@ -45,8 +47,12 @@ struct Cli {
 enum Command {
     /// Run a scene file and write DIR/diagnostics.csv (and frames, with --format).
     Run {
-        /// The scene file (TOML).
+        /// The scene file (TOML), or `-` to read it from standard input.
         scene: PathBuf,
+        /// Where the relative paths (meshes) of a scene read from standard
+        /// input start (default: the current folder).
+        #[arg(long, value_name = "DIR")]
+        base_dir: Option<PathBuf>,
         #[command(flatten)]
         options: RunOptions,
     },
@@ -64,6 +70,10 @@ enum Command {
     Check {
         /// The scene file (TOML).
         scene: PathBuf,
+        /// Set a key of the scene: `sim.dt=1e-4`, `body.NAME.stiffness=200`,
+        /// `collider.0.friction=0.5` (repeatable; docs/scenes.md, "Overrides").
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<Override>,
     },
     /// Draw a scene or a finished run: PNG frames and an animated GIF.
     Render(render::RenderArgs),
@@ -107,6 +117,10 @@ pub struct RunOptions {
     /// Override the scene's integrator.
     #[arg(long)]
     integrator: Option<IntegratorKind>,
+    /// Set a key of the scene: `sim.dt=1e-4`, `body.NAME.stiffness=200`,
+    /// `collider.0.friction=0.5` (repeatable; docs/scenes.md, "Overrides").
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<Override>,
     /// Save the world's state to FILE at the end of the run (also when it
     /// is interrupted), to go on later with --resume.
     #[arg(long, value_name = "FILE")]
@@ -147,9 +161,11 @@ fn main() -> ExitCode {
         return ExitCode::from(1);
     }
     let result = match cli.command {
-        Command::Run { scene, options } => {
-            sprung::parallel::in_pool(|| run::run_file(&scene, &options))
-        }
+        Command::Run {
+            scene,
+            base_dir,
+            options,
+        } => sprung::parallel::in_pool(|| run::run_file(&scene, base_dir.as_deref(), &options)),
         Command::Demo {
             name,
             list,
@@ -163,7 +179,7 @@ fn main() -> ExitCode {
             }
         }
         Command::Bench(args) => bench::run(&args),
-        Command::Check { scene } => check::run(&scene),
+        Command::Check { scene, set } => check::run(&scene, &set),
         Command::Render(args) => render::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::View(args) => view::run(&args),

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use sprung::{IntegratorKind, Real, Vec3};
-use sprung_io::{load_scene, SceneCamera};
+use sprung_io::{load_scene_overridden, Override, SceneCamera};
 use sprung_view::render::{
     read_run, record, render_to_dir, steps_between_pictures, RenderError, RenderSettings, Rendered,
     Snapshot, StrainColours, DEFAULT_FOV_DEGREES, DEFAULT_PICTURE_RATE,
@@ -77,6 +77,10 @@ pub struct RenderArgs {
     /// Override a scene's integrator.
     #[arg(long)]
     integrator: Option<IntegratorKind>,
+    /// Set a key of a scene: `sim.dt=1e-4`, `body.NAME.stiffness=200`,
+    /// `collider.0.friction=0.5` (repeatable; docs/scenes.md, "Overrides").
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<Override>,
     /// Print nothing but errors and warnings.
     #[arg(long)]
     quiet: bool,
@@ -104,9 +108,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         )));
     }
     let (snapshots, out, blow_up) = if source.is_dir() {
-        if args.steps.is_some() || args.time.is_some() || args.integrator.is_some() {
+        if args.steps.is_some()
+            || args.time.is_some()
+            || args.integrator.is_some()
+            || !args.set.is_empty()
+        {
             return Err(CliError::Input(format!(
-                "{} is a run folder: --steps, --time and --integrator apply to scene files only",
+                "{} is a run folder: --steps, --time, --integrator and --set apply to scene files only",
                 source.display()
             )));
         }
@@ -205,7 +213,7 @@ fn run_scene(
     path: &Path,
     args: &RenderArgs,
 ) -> Result<(Vec<Snapshot>, Option<sprung::StepError>, SceneCamera), CliError> {
-    let mut scene = load_scene(path)?;
+    let mut scene = load_scene_overridden(path, &args.set)?;
     if let Some(kind) = args.integrator {
         scene.world.set_integrator(kind);
     }

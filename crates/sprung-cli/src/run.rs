@@ -8,11 +8,12 @@ use std::time::Duration;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
 use sprung::error::{Readable, Seconds};
 use sprung::StepError;
-use sprung_io::{load_scene, Scene, SceneError};
+use sprung_io::{Scene, SceneError};
 
 use crate::checkpoint;
 use crate::interrupt::{self, Signal};
 use crate::outputs::Outputs;
+use crate::scene_file::{SceneCopy, SceneInput};
 use crate::RunOptions;
 
 /// Why a command failed.
@@ -64,23 +65,29 @@ impl From<SceneError> for CliError {
     }
 }
 
-/// `sprung run SCENE`: load the file, then [`run_scene`].
-pub fn run_file(path: &Path, options: &RunOptions) -> Result<(), CliError> {
-    let scene = load_scene(path)?;
-    let stem = path
-        .file_stem()
-        .unwrap_or_default()
-        .to_string_lossy()
-        .into_owned();
-    let out = options
-        .out
-        .clone()
-        .unwrap_or_else(|| Path::new("out").join(stem));
-    run_scene(scene, &out, options)
+/// `sprung run SCENE`: read the file (standard input for `-`, its
+/// relative paths from `base_dir`), apply the `--set` overrides, then
+/// [`run_scene`], which keeps the effective scene in the run's folder.
+pub fn run_file(
+    path: &Path,
+    base_dir: Option<&Path>,
+    options: &RunOptions,
+) -> Result<(), CliError> {
+    let input = SceneInput::read(path, base_dir)?;
+    let scene = input.load(&options.set)?;
+    let copy = input.copy(&options.set)?;
+    let out = options.out.clone().unwrap_or_else(|| input.default_out());
+    run_scene(scene, &out, options, Some(&copy))
 }
 
-/// Run `scene` with `options`, writing into `out`.
-pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(), CliError> {
+/// Run `scene` with `options`, writing into `out` (and `copy`, the scene
+/// it was built from, once the folder is ready).
+pub fn run_scene(
+    mut scene: Scene,
+    out: &Path,
+    options: &RunOptions,
+    copy: Option<&SceneCopy>,
+) -> Result<(), CliError> {
     if let Some(kind) = options.integrator {
         scene.world.set_integrator(kind);
     }
@@ -142,6 +149,9 @@ pub fn run_scene(mut scene: Scene, out: &Path, options: &RunOptions) -> Result<(
         resumed,
         records,
     )?;
+    if let Some(copy) = copy {
+        copy.write(out)?;
+    }
     if resumed.is_none() {
         outputs.record(&scene.world)?;
     }

@@ -15,5 +15,9 @@ pub mod scene;
 pub mod state;
 
 pub use scene::{
-    load_scene, parse_scene, parse_scene_with, Disk, FileSource, Scene, SceneCamera, SceneError,
+    apply_overrides, load_scene, load_scene_overridden, parse_scene, parse_scene_overridden,
+    parse_scene_with, Disk, FileSource, Override, OverrideError, Scene, SceneCamera, SceneError,
 };
+/// The TOML crate whose values [`Override`] holds and [`scene::overridden_table`]
+/// returns.
+pub use toml;

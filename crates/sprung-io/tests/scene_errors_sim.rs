@@ -24,6 +24,43 @@ fn unknown_key_in_sim() {
 }
 
 #[test]
+fn each_error_names_its_key_where_it_is_known() {
+    // `SceneError::key`: the key as written in its table, misspelt ones
+    // too, with the line of the key (in `[sim]`, in a body's own section,
+    // in a builder's inline table); none where no one key is wrong.
+    for (text, line, key) in [
+        (
+            variant("steps = 10", "steps = 10\ntimestep = 3"),
+            4,
+            Some("timestep"),
+        ),
+        (
+            variant("mass = 1.0", "mass = 1.0\nstifness = 3"),
+            10,
+            Some("stifness"),
+        ),
+        (variant("dt = 1e-3", "dt = -1e-3"), 2, Some("dt")),
+        (variant("dt = 1e-3", "dt = true"), 2, Some("dt")),
+        (variant("mass = 1.0", "mass = -1.0"), 9, Some("mass")),
+        (
+            variant("mass = 1.0\n", "rope = { particles = 2, lenght = 1 }\n"),
+            9,
+            Some("lenght"),
+        ),
+        (variant("[sim]\n", "[sim]\n[sim]\n"), 2, Some("sim")),
+        (variant("dt = 1e-3", "dt = = 1e-3"), 2, Some("dt")),
+        (variant("steps = 10", "steps = 10\nwhat"), 4, None),
+    ] {
+        let error = common::scene_errors::error_of(&text);
+        assert_eq!(
+            (error.line, error.key.as_deref()),
+            (Some(line), key),
+            "{error}"
+        );
+    }
+}
+
+#[test]
 fn time_step_zero_and_negative() {
     assert_error(
         &variant("dt = 1e-3", "dt = 0.0"),

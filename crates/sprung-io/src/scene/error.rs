@@ -33,6 +33,7 @@ use std::path::{Path, PathBuf};
 /// let error = sprung_io::parse_scene(&typo, Path::new("rope.toml")).unwrap_err();
 /// assert_eq!(error.line, Some(5));
 /// assert!(error.message.starts_with("unknown field `timestep`, expected one of `dt`, "));
+/// assert_eq!(error.key.as_deref(), Some("timestep"));
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneError {
@@ -42,6 +43,12 @@ pub struct SceneError {
     pub line: Option<usize>,
     /// What is wrong, naming the key.
     pub message: String,
+    /// The key the error is about, where known: as written in its table
+    /// (`dt`, `stiffness`, `timestep` for a misspelt key, `rope` for a
+    /// builder's table), or the dotted key of an override
+    /// (`body.ball.stiffness`, [`Override`](super::Override)). Not part of
+    /// the [`Display`](fmt::Display) text, whose message names it already.
+    pub key: Option<String>,
 }
 
 impl SceneError {
@@ -51,7 +58,14 @@ impl SceneError {
             file: file.to_path_buf(),
             line,
             message: message.into(),
+            key: None,
         }
+    }
+
+    /// The same error, about `key` (see [`SceneError::key`]).
+    pub fn with_key(mut self, key: impl Into<String>) -> Self {
+        self.key = Some(key.into());
+        self
     }
 }
 

@@ -12,12 +12,14 @@
 //! `[[body]]` section at a time, as `sections` finds them; errors placed
 //! at their line) is in `read`, the `[sim]` table in `sim`, the bodies in
 //! `body` (their long arrays in `bulk`), the colliders, contact and
-//! gravitation in `interactions`, and the wind in `wind`.
+//! gravitation in `interactions`, and the wind in `wind`. Overrides of
+//! the scene's keys (`--set KEY=VALUE`) are read and applied in `overrides`.
 
 mod body;
 mod bulk;
 mod error;
 mod interactions;
+mod overrides;
 mod read;
 mod sections;
 mod sim;
@@ -25,6 +27,10 @@ mod tables;
 mod wind;
 
 pub use error::SceneError;
+pub use overrides::{
+    apply_overrides, load_scene_overridden, overridden_table, parse_scene_overridden, scene_toml,
+    Override, OverrideError,
+};
 
 use std::path::{Path, PathBuf};
 
@@ -234,7 +240,7 @@ pub fn parse_scene_with(
         let line = line_of_entry(text, span.start, &keys, &message)
             .or_else(|| line_of_key(text, span.start, &keys))
             .unwrap_or_else(|| line_of(text, span.start));
-        SceneError::new(path, Some(line), message)
+        SceneError::new(path, Some(line), message).with_key(key)
     };
     let sim = file.sim.get_ref();
     let (integrator, dt, steps) = timing(sim).map_err(|(key, m)| at(sim_span.clone(), key, m))?;

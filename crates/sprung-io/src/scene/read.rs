@@ -70,30 +70,51 @@ pub(super) fn parse_toml<T: serde::de::DeserializeOwned>(
                 .unwrap_or("")
                 .trim()
         });
-        let message = match (header, name) {
+        let (message, key) = match (header, name) {
             (Some(h), Some(name)) if h.starts_with("[[") && message.starts_with("invalid type") => {
-                format!(
+                (
+                    format!(
                     "`[[{name}]]`: `{name}` is one table, written `[{name}]`, not a list of them"
+                ),
+                    Some(name),
                 )
             }
-            (Some(_), Some(name)) if message.starts_with("duplicate key") => {
-                format!("`[{name}]` is given twice: write its keys in one table")
-            }
+            (Some(_), Some(name)) if message.starts_with("duplicate key") => (
+                format!("`[{name}]` is given twice: write its keys in one table"),
+                Some(name),
+            ),
             _ if message.starts_with("duplicate key") => {
                 let key = start.and_then(|s| key_at(text, s));
-                key.map_or(message.to_string(), |key| {
+                let message = key.map_or(message.to_string(), |key| {
                     format!("`{key}` is given twice in its table")
-                })
+                });
+                (message, key)
             }
+            // The key is the one the message names as unknown or missing,
+            // else the one the value belongs to.
             _ => match start.and_then(|s| key_before(text, s)) {
-                Some(key) if !message.contains(&format!("`{key}`")) => {
-                    format!("`{key}`: {message}")
-                }
-                _ => message.to_string(),
+                Some(key) if !message.contains(&format!("`{key}`")) => (
+                    format!("`{key}`: {message}"),
+                    field_named(message).or(Some(key)),
+                ),
+                key => (message.to_string(), field_named(message).or(key)),
             },
         };
-        SceneError::new(path, line, message)
+        let error = SceneError::new(path, line, message);
+        match key {
+            Some(key) => error.with_key(key),
+            None => error,
+        }
     })
+}
+
+/// The field a serde message names: `timestep` in "unknown field
+/// `timestep`, expected one of ...", `dt` in "missing field `dt`".
+fn field_named(message: &str) -> Option<&str> {
+    let rest = ["unknown field `", "missing field `"]
+        .iter()
+        .find_map(|start| message.strip_prefix(start))?;
+    rest.split('`').next().filter(|key| !key.is_empty())
 }
 
 /// The key assigned on the line of byte `offset` of `text` (`dt` in
