@@ -42,16 +42,30 @@ pub fn value<'py>(py: Python<'py>, v: impl IntoPyObject<'py>) -> Bound<'py, PyAn
 /// one of its meshes).
 pub fn scene_error(py: Python<'_>, error: &SceneError) -> PyErr {
     let path = error.file.display().to_string();
-    typed(
-        py,
-        "SceneError",
-        error.to_string(),
-        &[
-            ("path", value(py, path)),
-            ("line", value(py, error.line)),
-            ("field", value(py, None::<String>)),
-        ],
-    )
+    match &error.mesh {
+        Some(mesh) => typed(
+            py,
+            "MeshError",
+            error.to_string(),
+            &[
+                ("path", value(py, mesh.file.display().to_string())),
+                ("line", value(py, mesh.line)),
+                ("field", value(py, error.key.clone())),
+                ("scene", value(py, path)),
+                ("scene_line", value(py, error.line)),
+            ],
+        ),
+        None => typed(
+            py,
+            "SceneError",
+            error.to_string(),
+            &[
+                ("path", value(py, path)),
+                ("line", value(py, error.line)),
+                ("field", value(py, error.key.clone())),
+            ],
+        ),
+    }
 }
 
 /// `sprung.BlowUp` for a state that ran away, `sprung.StepError` for the

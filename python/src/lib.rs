@@ -6,6 +6,7 @@
 
 mod batch;
 mod errors;
+mod overrides;
 mod pictures;
 mod run;
 mod sim;

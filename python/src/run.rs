@@ -42,7 +42,7 @@ pub fn run(
         let path: PathBuf = scene
             .extract()
             .map_err(|_| bad_value("scene: give a scene file's path or a sprung.World"))?;
-        let mut sim = load_sim(py, &path)?;
+        let mut sim = load_sim(py, &path, &[])?;
         run_sim(py, &mut sim, (steps, time, every), integrator, out)
     }
 }

@@ -9,27 +9,40 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sprung::{IntegratorKind, Vec3};
 use sprung_io::export::energy_columns;
-use sprung_io::state;
+use sprung_io::{state, Disk, Override};
 
 use crate::errors::{bad_value, failed, scene_error, step_error, typed, value};
+use crate::overrides::overrides;
 use crate::sim::{Sim, SIGNAL_CHECK};
 
-/// Read and build the scene file at `path`.
-pub fn load_sim(py: Python<'_>, path: &Path) -> PyResult<Sim> {
+/// Read and build the scene file at `path`, with `overrides`.
+pub fn load_sim(py: Python<'_>, path: &Path, overrides: &[Override]) -> PyResult<Sim> {
     let bytes = std::fs::read(path).map_err(|e| {
         let error =
             sprung_io::SceneError::new(path, None, format!("cannot read the scene file: {e}"));
         scene_error(py, &error)
     })?;
     let text = sprung_io::scene::scene_text(&bytes, path).map_err(|e| scene_error(py, &e))?;
-    build_sim(py, text.to_string(), path)
+    build_sim(py, text.to_string(), path, overrides)
 }
 
-/// Build the scene `text`, named `path` (its folder anchors mesh paths).
-pub fn build_sim(py: Python<'_>, text: String, path: &Path) -> PyResult<Sim> {
-    let scene = py
-        .detach(|| sprung_io::parse_scene(&text, path))
-        .map_err(|e| scene_error(py, &e))?;
+/// Build the scene `text`, named `path` (its folder anchors mesh paths),
+/// with `overrides`; the Sim keeps the effective text.
+pub fn build_sim(
+    py: Python<'_>,
+    text: String,
+    path: &Path,
+    overrides: &[Override],
+) -> PyResult<Sim> {
+    let built = py.detach(|| {
+        let scene = sprung_io::parse_scene_overridden(&text, path, overrides, &Disk)?;
+        let text = match overrides {
+            [] => text,
+            _ => sprung_io::apply_overrides(&text, path, overrides)?,
+        };
+        Ok((scene, text))
+    });
+    let (scene, text) = built.map_err(|e| scene_error(py, &e))?;
     Ok(Sim::new(scene, text))
 }
 
@@ -41,8 +54,7 @@ pub fn load(
     path: PathBuf,
     set: Option<Vec<(String, Bound<'_, PyAny>)>>,
 ) -> PyResult<World> {
-    no_overrides(set)?;
-    Ok(World::new(load_sim(py, &path)?))
+    Ok(World::new(load_sim(py, &path, &overrides(set)?)?))
 }
 
 /// Build a World from scene text; mesh paths are relative to `base_dir`
@@ -55,16 +67,8 @@ pub fn loads(
     base_dir: Option<PathBuf>,
     set: Option<Vec<(String, Bound<'_, PyAny>)>>,
 ) -> PyResult<World> {
-    no_overrides(set)?;
     let path = base_dir.unwrap_or_default().join("<string>");
-    Ok(World::new(build_sim(py, text, &path)?))
-}
-
-fn no_overrides(set: Option<Vec<(String, Bound<'_, PyAny>)>>) -> PyResult<()> {
-    match set {
-        Some(set) if !set.is_empty() => Err(bad_value("set: not yet")),
-        _ => Ok(()),
-    }
+    Ok(World::new(build_sim(py, text, &path, &overrides(set)?)?))
 }
 
 /// A simulated world: particles joined by springs, bodies, colliders.
@@ -417,7 +421,7 @@ impl World {
                 applied,
             )
         };
-        let mut sim = build_sim(py, text, &path)?;
+        let mut sim = build_sim(py, text, &path, &[])?;
         sim.scene.dt = dt;
         sim.scene.world.set_integrator(integrator);
         sim.scene

@@ -74,3 +74,33 @@ def test_to_pandas(scenes):
     frame = table.to_pandas()
     assert isinstance(frame, pd.DataFrame)
     assert list(frame.columns) == list(table)
+
+
+def test_set_is_the_command_lines_set_bit_for_bit(tmp_path, cli, scenes):
+    scene = scenes / "ball2d.toml"
+    cli("run", scene, "--out", tmp_path / "cli", "--steps", 300, "--quiet",
+        "--set", "sim.dt=2.5e-4", "--set", "body.ball.gas.nrt=150.0",
+        "--set", "collider.0.friction=0.5", "--set", "sim.integrator=rk4")
+    written = (tmp_path / "cli" / "diagnostics.csv").read_text()
+    overrides = {"sim.dt": 2.5e-4, "body.ball.gas.nrt": np.float64(150.0),
+                 "collider.0.friction": 0.5, "sim.integrator": "rk4"}
+    table = sprung.run(scene, steps=300, set=overrides)
+    assert table.csv == written
+    world = sprung.load(scene, set=overrides)
+    assert (world.dt, world.integrator) == (2.5e-4, "rk4")
+    world.step(round(1.0 / world.dt))  # past the gas's 0.5 s ramp
+    assert world.body("ball").nrt == 150.0
+
+
+def test_a_bad_override_names_its_key(scenes):
+    with pytest.raises(sprung.SceneError) as caught:
+        sprung.load(scenes / "ball2d.toml", set={"body.ball.stifness": 10.0})
+    assert caught.value.field == "body.ball.stifness"
+    assert "stifness" in str(caught.value)
+    with pytest.raises(sprung.SceneError, match="no body named|bodies"):
+        sprung.load(scenes / "ball2d.toml", set={"body.nothing.stiffness": 10.0})
+    with pytest.raises(sprung.SceneError) as caught:
+        sprung.load(scenes / "ball2d.toml", set={"sim.dt": "fast"})
+    assert caught.value.field == "sim.dt"
+    with pytest.raises(ValueError, match="no TOML form"):
+        sprung.load(scenes / "ball2d.toml", set={"sim.dt": object()})

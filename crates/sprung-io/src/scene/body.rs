@@ -287,24 +287,43 @@ fn surface_springs(table: &BodyTable) -> Result<SurfaceSprings, KeyError> {
     })
 }
 
+/// The object of the mesh file at `path` that `table` names (checked
+/// closed and oriented outward for a gas body), or the mesh file's own
+/// error.
+fn mesh_object(
+    table: &BodyTable,
+    path: &Path,
+    files: &dyn FileSource,
+) -> Result<mesh::TriangleMesh, mesh::MeshError> {
+    let format = mesh::MeshFormat::from_path(path)?;
+    let bytes = files
+        .read(path)
+        .map_err(|e| mesh::MeshError::new(path, mesh::MeshErrorKind::Io(e.to_string())))?;
+    let objects = mesh::parse_mesh(&bytes, format, path)?;
+    let object = mesh::select_object(objects, table.object.as_deref(), path)?;
+    if table.gas.is_some() {
+        return mesh::closed_surface(&object, path);
+    }
+    Ok(object)
+}
+
+/// The mesh file's own error where the body `table` fails on its mesh
+/// (read again: only for the error's sake), else `None`.
+pub(super) fn mesh_error(
+    table: &BodyTable,
+    scene_dir: &Path,
+    files: &dyn FileSource,
+) -> Option<mesh::MeshError> {
+    let file = table.mesh.as_ref()?;
+    mesh_object(table, &scene_dir.join(file), files).err()
+}
+
 /// A body from one object of a mesh file. A gas body needs a closed,
 /// edge-manifold, orientable surface, oriented outward here; anything else
 /// is refused with the file, the object and the first offending edge. Open
 /// meshes are fine as cloth.
 fn mesh_body(table: &BodyTable, path: &Path, files: &dyn FileSource) -> Result<BodyData, KeyError> {
-    let fail = |e: mesh::MeshError| ("mesh", e.to_string());
-    let format = mesh::MeshFormat::from_path(path).map_err(fail)?;
-    let bytes = files.read(path).map_err(|e| {
-        fail(mesh::MeshError::new(
-            path,
-            mesh::MeshErrorKind::Io(e.to_string()),
-        ))
-    })?;
-    let objects = mesh::parse_mesh(&bytes, format, path).map_err(fail)?;
-    let mut object = mesh::select_object(objects, table.object.as_deref(), path).map_err(fail)?;
-    if table.gas.is_some() {
-        object = mesh::closed_surface(&object, path).map_err(fail)?;
-    }
+    let object = mesh_object(table, path, files).map_err(|e| ("mesh", e.to_string()))?;
     let mut position: Vec<Vec3> = object
         .positions
         .iter()

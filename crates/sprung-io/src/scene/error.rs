@@ -49,6 +49,9 @@ pub struct SceneError {
     /// (`body.ball.stiffness`, [`Override`](super::Override)). Not part of
     /// the [`Display`](fmt::Display) text, whose message names it already.
     pub key: Option<String>,
+    /// The mesh file's own error (its file and line), where the scene
+    /// failed on one of its meshes; the message already quotes it.
+    pub mesh: Option<Box<crate::mesh::MeshError>>,
 }
 
 impl SceneError {
@@ -59,7 +62,15 @@ impl SceneError {
             line,
             message: message.into(),
             key: None,
+            mesh: None,
         }
+    }
+
+    /// The same error, caused by the mesh file's `error` (see
+    /// [`SceneError::mesh`]).
+    pub fn with_mesh(mut self, error: Option<crate::mesh::MeshError>) -> Self {
+        self.mesh = error.map(Box::new);
+        self
     }
 
     /// The same error, about `key` (see [`SceneError::key`]).

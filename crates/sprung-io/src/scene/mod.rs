@@ -260,8 +260,13 @@ pub fn parse_scene_with(
     let mut add = |world: &mut World, table: Spanned<BodyTable>| -> Result<(), SceneError> {
         let span = table.span();
         let body = table.get_ref();
-        let data = body::body_data(body, scene_dir, files)
-            .map_err(|(key, m)| at(span.clone(), key, format!("body \"{}\": {m}", body.name)))?;
+        let data = body::body_data(body, scene_dir, files).map_err(|(key, m)| {
+            let error = at(span.clone(), key, format!("body \"{}\": {m}", body.name));
+            match key {
+                "mesh" => error.with_mesh(body::mesh_error(body, scene_dir, files)),
+                _ => error,
+            }
+        })?;
         for (key, message) in body::pinning_warnings(body, &data) {
             let message = format!("body \"{}\": {message}", body.name);
             warnings.push(at(span.clone(), key, message).to_string());
