@@ -22,7 +22,9 @@
 #     package-lock.json; it drives the Debian Chromium, it downloads no
 #     browser);
 #   - a virtual environment target/python-venv with maturin, numpy,
-#     pytest, Pillow and pandas (python/requirements-test.txt, from PyPI).
+#     pytest, Pillow, pandas and Dask (python/requirements-test.txt, from
+#     PyPI); the sweep's tests start a Dask scheduler and two workers on
+#     127.0.0.1.
 # Node.js 20 or newer and Python 3.9 or newer (python3, with its venv
 # module) must be on the PATH (they are on the project's machines).
 set -euo pipefail

@@ -26,7 +26,7 @@ from ._native import Batch, Body, World, integrators
 __version__ = _native.__version__
 
 __all__ = [
-    "load", "loads", "run", "animate", "plot", "integrators",
+    "load", "loads", "run", "sweep", "animate", "plot", "integrators",
     "World", "Body", "Batch", "Diagnostics", "Gif", "Png", "Plots",
     "SceneError", "MeshError", "StateError", "StepError", "BlowUp",
 ]
@@ -250,3 +250,34 @@ def plot(diagnostics: Union[Diagnostics, PathLike, str], width: int = 1000,
         title = name or os.path.basename(os.path.dirname(os.path.abspath(path)))
     pictures = _native.plot(text, title, width, height)
     return Plots((key, Png(data, key)) for key, data in pictures)
+
+
+def sweep(scene: PathLike, grid: Optional[Mapping[str, Iterable[object]]] = None,
+          samples: Optional[int] = None,
+          ranges: Optional[Mapping[str, "tuple[float, float]"]] = None, seed: int = 0,
+          steps: Optional[int] = None, time: Optional[float] = None,
+          every: Optional[int] = None, out: PathLike = "out/sweep", scheduler=None,
+          threads: Optional[int] = None, progress: bool = True):
+    """Run ``scene`` once per point of a grid (``{KEY: [values]}``, every
+    combination) or of a Latin hypercube (``samples`` points over
+    ``ranges``, ``{KEY: (low, high)}``, reproducible from ``seed``), with
+    the dotted keys of ``--set``; ``steps``, ``time`` and ``every`` as for
+    ``run``.
+
+    Each run writes ``OUT/runs/<id>/`` (``scene.toml``, ``diagnostics.csv``),
+    complete or not at all, and ``OUT/sweep.csv`` gets a row per run: the
+    swept values, ``id``, ``status`` (``ok``, ``blew_up``, ``error``),
+    ``message``, ``steps``, ``time``, ``wall_s`` and the last diagnostics
+    row as ``final.*`` columns. A rerun into the same ``out`` skips the runs
+    that ended.
+
+    ``scheduler``: None runs on this machine's cores (``threads`` at once,
+    default every core), without Dask; a ``dask.distributed.Client`` or a
+    scheduler's address (``tcp://HOST:PORT``) sends each run to that
+    cluster as a task. Returns the rows as dicts. See docs/sweeps.md.
+    """
+    from ._sweep import sweep as run_sweep
+    grid = None if grid is None else {key: list(values) for key, values in grid.items()}
+    return run_sweep(scene, grid=grid, samples=samples, ranges=ranges, seed=seed, steps=steps,
+                     time=time, every=every, out=out, scheduler=scheduler, threads=threads,
+                     progress=progress)

@@ -24,8 +24,16 @@ def load(path: str, set: Optional[List[Tuple[str, object]]] = None) -> "World":
 
 
 def loads(text: str, base_dir: Optional[str] = None,
-          set: Optional[List[Tuple[str, object]]] = None) -> "World":
-    """Build a World from scene text (see ``sprung.loads``)."""
+          set: Optional[List[Tuple[str, object]]] = None,
+          name: Optional[str] = None) -> "World":
+    """Build a World from scene text (see ``sprung.loads``); errors name it
+    ``name`` (default ``<string>``) in ``base_dir``."""
+
+
+def effective_scene(text: str, path: str,
+                    set: Optional[List[Tuple[str, object]]] = None) -> str:
+    """The scene ``text`` (named ``path``, whose folder anchors its meshes)
+    with ``set`` applied, as TOML with absolute mesh paths."""
 
 
 def run(scene: Union[str, "World"], steps: Optional[int], time: Optional[float],

@@ -80,3 +80,30 @@ fn to_toml(value: &Bound<'_, PyAny>) -> Result<Value, String> {
             .unwrap_or_default()
     ))
 }
+
+/// The effective scene of `text` (the scene file `path`, or text whose
+/// meshes are found from `path`'s folder) with `set` applied, as TOML
+/// text whose mesh paths are absolute: what a run of a sweep builds and
+/// keeps as its `scene.toml`, wherever it runs.
+#[pyfunction]
+#[pyo3(signature = (text, path, set=None))]
+pub fn effective_scene(
+    py: Python<'_>,
+    text: &str,
+    path: std::path::PathBuf,
+    set: Option<Vec<(String, Bound<'_, PyAny>)>>,
+) -> PyResult<String> {
+    let overrides = overrides(set)?;
+    let scene_error = |e: sprung_io::SceneError| crate::errors::scene_error(py, &e);
+    let mut table =
+        sprung_io::scene::overridden_table(text, &path, &overrides).map_err(scene_error)?;
+    let folder = path.parent().unwrap_or(std::path::Path::new(""));
+    let folder = std::path::absolute(folder).unwrap_or_else(|_| folder.to_path_buf());
+    let bodies = table.get_mut("body").and_then(Value::as_array_mut);
+    for body in bodies.into_iter().flatten() {
+        if let Some(Value::String(mesh)) = body.get_mut("mesh") {
+            *mesh = folder.join(&*mesh).display().to_string();
+        }
+    }
+    sprung_io::scene::scene_toml(&table, &path).map_err(scene_error)
+}

@@ -60,14 +60,18 @@ pub fn load(
 /// Build a World from scene text; mesh paths are relative to `base_dir`
 /// (default: the current folder).
 #[pyfunction]
-#[pyo3(signature = (text, base_dir=None, set=None))]
+#[pyo3(signature = (text, base_dir=None, set=None, name=None))]
 pub fn loads(
     py: Python<'_>,
     text: String,
     base_dir: Option<PathBuf>,
     set: Option<Vec<(String, Bound<'_, PyAny>)>>,
+    name: Option<String>,
 ) -> PyResult<World> {
-    let path = base_dir.unwrap_or_default().join("<string>");
+    // Errors name the text `<string>` (or `name`) in `base_dir`.
+    let path = base_dir
+        .unwrap_or_default()
+        .join(name.as_deref().unwrap_or("<string>"));
     Ok(World::new(build_sim(py, text, &path, &overrides(set)?)?))
 }
 

@@ -1,0 +1,172 @@
+"""Sweeps: on this machine without Dask, and on a real Dask cluster of a
+scheduler and two workers on 127.0.0.1, with a worker killed mid-sweep."""
+
+import csv
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+import sprung
+
+# A 3 × 3 grid on the 2D gas ball; dt = 0.05 s is far above its stable
+# step (about 9 ms), so that row of runs blows up.
+GRID = {"sim.dt": [2.5e-4, 5e-4, 0.05], "body.ball.gas.nrt": [50, 100, 150]}
+
+
+def read(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def check_grid(out, rows, cli, scenes, tmp_path):
+    table = read(out / "sweep.csv")
+    assert len(table) == len(rows) == 9
+    assert [r["status"] for r in table] == ["ok"] * 6 + ["blew_up"] * 3
+    for row in table[6:]:
+        assert "blew up" in row["message"] and int(row["steps"]) < 400
+    assert list(table[0])[:8] == ["sim.dt", "body.ball.gas.nrt", "id", "status", "message",
+                                  "steps", "time", "wall_s"]
+    assert "final.total" in table[0] and "final.ball.volume" in table[0]
+    # One row against sprung run --set, bit for bit.
+    row = table[4]  # dt = 5e-4, nrt = 100
+    cli("run", scenes / "ball2d.toml", "--out", tmp_path / "cli", "--steps", 400, "--quiet",
+        "--set", "sim.dt=5e-4", "--set", "body.ball.gas.nrt=100")
+    written = (tmp_path / "cli" / "diagnostics.csv").read_text()
+    run_dir = out / "runs" / row["id"]
+    assert (run_dir / "diagnostics.csv").read_text() == written
+    assert float(row["final.total"]) == float(written.splitlines()[-1].split(",")[6])
+    # The run's folder repeats it alone.
+    cli("run", run_dir / "scene.toml", "--out", tmp_path / "again", "--steps", 400, "--quiet")
+    assert (tmp_path / "again" / "diagnostics.csv").read_text() == written
+
+
+def test_local_sweep_without_dask(tmp_path, cli, scenes):
+    # In a process where dask cannot be imported at all.
+    out = tmp_path / "sweep"
+    code = f"""
+import sys
+sys.modules["dask"] = None
+sys.modules["distributed"] = None
+import sprung
+rows = sprung.sweep({str(scenes / 'ball2d.toml')!r}, grid={GRID!r}, steps=400,
+                    out={str(out)!r}, progress=False)
+print(len(rows))
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    check_grid(out, range(9), cli, scenes, tmp_path)
+
+
+def test_refused_values_are_rows_and_reruns_skip_what_ended(tmp_path, scenes):
+    out = tmp_path / "sweep"
+    grid = {"body.ball.stiffness": [-1.0, 2000.0], "body.nothing.mass": [1.0]}
+    rows = sprung.sweep(scenes / "ball2d.toml", grid={"body.ball.stiffness": [-1.0, 2000.0]},
+                        steps=50, out=out, progress=False)
+    assert [r["status"] for r in rows] == ["error", "ok"]
+    assert "must not be negative" in rows[0]["message"]
+    assert f"runs/{rows[0]['id']}/scene.toml:" in rows[0]["message"]
+    rows = sprung.sweep(scenes / "ball2d.toml", grid=grid, steps=50, out=tmp_path / "b",
+                        progress=False)
+    assert {r["status"] for r in rows} == {"error"}
+    assert "nothing" in rows[0]["message"]
+    stamps = {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*/result.json")}
+    again = sprung.sweep(scenes / "ball2d.toml", grid={"body.ball.stiffness": [-1.0, 2000.0]},
+                         steps=50, out=out, progress=False)
+    assert [r["status"] for r in again] == ["error", "ok"]
+    assert {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*/result.json")} == stamps
+
+
+def test_latin_hypercube_is_stratified_and_reproducible():
+    from sprung._sweep import latin_hypercube
+    points = latin_hypercube({"a": (0.0, 1.0), "b": (10.0, 20.0)}, 8, seed=3)
+    assert points == latin_hypercube({"a": (0.0, 1.0), "b": (10.0, 20.0)}, 8, seed=3)
+    assert points != latin_hypercube({"a": (0.0, 1.0), "b": (10.0, 20.0)}, 8, seed=4)
+    # Each of the 8 strata of each range holds exactly one point.
+    assert sorted(int(p["a"] * 8) for p in points) == list(range(8))
+    assert sorted(int((p["b"] - 10.0) / 10.0 * 8) for p in points) == list(range(8))
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def cluster(tmp_path):
+    """A Dask scheduler and two single-thread workers on 127.0.0.1, always
+    stopped; yields (address, worker processes)."""
+    pytest.importorskip("distributed")
+    dask = str(Path(sys.executable).parent / "dask")
+    port = free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    logs = open(tmp_path / "cluster.log", "w")
+    common = dict(stdout=logs, stderr=subprocess.STDOUT, cwd=tmp_path)
+    scheduler = subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", str(port),
+                                  "--dashboard-address", ":0"], **common)
+    workers = [subprocess.Popen([dask, "worker", address, "--nthreads", "1", "--nworkers", "1",
+                                 "--no-nanny", "--dashboard-address", ":0",
+                                 "--local-directory", str(tmp_path / f"w{k}")], **common)
+               for k in range(2)]
+    try:
+        from dask.distributed import Client
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(2, timeout=90)
+        yield address, workers
+    finally:
+        for process in workers + [scheduler]:
+            if process.poll() is None:
+                process.send_signal(signal.SIGTERM)
+        for process in workers + [scheduler]:
+            try:
+                process.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                process.kill()
+        logs.close()
+
+
+def test_sweep_on_a_dask_cluster(tmp_path, cli, scenes, cluster):
+    address, workers = cluster
+    out = tmp_path / "sweep"
+    rows = sprung.sweep(scenes / "ball2d.toml", grid=GRID, steps=400, out=out,
+                        scheduler=address, progress=False)
+    check_grid(out, rows, cli, scenes, tmp_path)
+    stamps = {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*/result.json")}
+    sprung.sweep(scenes / "ball2d.toml", grid=GRID, steps=400, out=out, scheduler=address,
+                 progress=False)
+    assert {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*/result.json")} == stamps
+
+
+def test_a_worker_killed_mid_sweep_costs_only_time(tmp_path, scenes, cluster):
+    address, workers = cluster
+    out = tmp_path / "sweep"
+    # Eight runs of about a second each; one worker is killed after the
+    # first has ended, with runs on it half done.
+    import threading
+
+    def kill_when_started():
+        deadline = time.time() + 120
+        while time.time() < deadline:
+            if list((out / "runs").glob("*/result.json")):
+                workers[0].kill()
+                return
+            time.sleep(0.05)
+
+    killer = threading.Thread(target=kill_when_started)
+    killer.start()
+    rows = sprung.sweep(scenes / "ball3d.toml", grid={"body.ball.gas.nrt": [400, 450, 500, 550, 600, 650, 700, 750]},
+                        steps=3000, out=out, scheduler=address, progress=False)
+    killer.join()
+    assert workers[0].poll() is not None  # it was killed
+    assert [r["status"] for r in rows] == ["ok"] * 8
+    assert len(list((out / "runs").glob("*/result.json"))) == 8
+    for row in rows:
+        assert row["steps"] == 3000
