@@ -232,7 +232,13 @@ def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=
         else:
             pending.append((k, task))
 
-    def finish(k, row):
+    def finish(k, future):
+        try:
+            row = future.result()
+        except Exception as e:  # noqa: BLE001 (a failed run is a row, never a lost sweep)
+            task = dict(tasks)[k]
+            row = {"id": task["id"], "status": "error", "message": f"{type(e).__name__}: {e}",
+                   "steps": 0, "time": 0.0, "wall_s": 0.0, "final": {}}
         rows[k] = row
         bar.update(done=1, failed=int(row["status"] != "ok"), running=-1)
 
@@ -244,7 +250,7 @@ def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=
                 futures[pool.submit(run_task, task)] = k
                 bar.update(running=1)
             for future in as_completed(futures):
-                finish(futures[future], future.result())
+                finish(futures[future], future)
     else:
         client, own = _client(scheduler)
         try:
@@ -255,7 +261,7 @@ def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=
                                       pure=False, retries=2)] = k
                 bar.update(running=1)
             for future in dask_completed(list(futures)):
-                finish(futures[future], future.result())
+                finish(futures[future], future)
         finally:
             if own:
                 client.close()

@@ -170,3 +170,20 @@ def test_a_worker_killed_mid_sweep_costs_only_time(tmp_path, scenes, cluster):
     assert len(list((out / "runs").glob("*/result.json"))) == 8
     for row in rows:
         assert row["steps"] == 3000
+
+
+def test_a_run_that_fails_unexpectedly_is_a_row(tmp_path, scenes, monkeypatch):
+    import sprung._sweep as engine
+    real = engine.run_task
+
+    def flaky(task):
+        if "gas.nrt = 100" in task["scene"] or "nrt = 100\n" in task["scene"]:
+            raise OSError("disk full")
+        return real(task)
+
+    monkeypatch.setattr(engine, "run_task", flaky)
+    rows = sprung.sweep(scenes / "ball2d.toml", grid={"body.ball.gas.nrt": [50, 100]},
+                        steps=20, out=tmp_path, progress=False)
+    assert [r["status"] for r in rows] == ["ok", "error"]
+    assert rows[1]["message"] == "OSError: disk full"
+    assert len(read(tmp_path / "sweep.csv")) == 2
