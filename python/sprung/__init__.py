@@ -122,7 +122,8 @@ def run(scene: Union[PathLike, World], steps: Optional[int] = None,
     """Run a scene as ``sprung run`` does and return its diagnostics.
 
     Args:
-        scene: a scene file, or a World (stepped in place, from its state now).
+        scene: a scene file, or a World (stepped in place, from its state
+            now; ``integrator`` switches the World's integrator for good).
         steps: steps to run (default: the scene's duration); or
         time: simulated time to run (s).
         every: a row every ``every`` steps (default: the scene's
@@ -130,7 +131,8 @@ def run(scene: Union[PathLike, World], steps: Optional[int] = None,
         integrator: run with this integrator instead of the scene's.
         set: overrides of the scene's keys (with a scene file), as ``load``.
         out: a folder to write ``diagnostics.csv`` into, as ``sprung run
-            --out`` does.
+            --out`` does, with the effective ``scene.toml`` (mesh paths
+            made absolute) for a scene file.
 
     Returns:
         Diagnostics: the table, bit for bit the numbers of ``sprung run``'s
@@ -152,6 +154,17 @@ def run(scene: Union[PathLike, World], steps: Optional[int] = None,
     else:
         target = os.fspath(scene)
     out = None if out is None else os.fspath(out)
+    if out is not None and not isinstance(scene, World):
+        # The effective scene beside its diagnostics, as `sprung run` keeps it.
+        path = os.fspath(scene)
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        effective = _native.effective_scene(text, path, _overrides(set))
+        os.makedirs(out, exist_ok=True)
+        partial = os.path.join(out, "scene.toml.partial")
+        with open(partial, "w", encoding="utf-8") as f:
+            f.write(effective)
+        os.replace(partial, os.path.join(out, "scene.toml"))
     csv, error = _native.run(target, steps, time, every, integrator, out)
     table = Diagnostics(csv)
     if error is not None:

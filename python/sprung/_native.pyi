@@ -5,6 +5,7 @@ Every array a World returns is a copy of its state at the call, never a
 view: it cannot outlive its World or change under a program's feet.
 """
 
+import os
 from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -31,9 +32,16 @@ def loads(text: str, base_dir: Optional[str] = None,
 
 
 def effective_scene(text: str, path: str,
-                    set: Optional[List[Tuple[str, object]]] = None) -> str:
+                    set: Optional[List[Tuple[str, object]]] = None,
+                    steps: Optional[int] = None, time: Optional[float] = None,
+                    every: Optional[int] = None) -> str:
     """The scene ``text`` (named ``path``, whose folder anchors its meshes)
-    with ``set`` applied, as TOML with absolute mesh paths."""
+    with ``set`` applied, as TOML with absolute mesh paths; ``steps`` (or
+    ``time``, s) and ``every`` written into its ``[sim]``."""
+
+
+def parse_value(text: str) -> object:
+    """A command line's VALUE as ``--set`` reads it (TOML, or a bare word)."""
 
 
 def run(scene: Union[str, "World"], steps: Optional[int], time: Optional[float],
@@ -70,7 +78,7 @@ class World:
     velocities: npt.NDArray[np.float64]
     """Velocities (m/s): a copy, ``(n, 3)`` or ``(n, 2)``; assign to set
     (pinned particles must stay at 0)."""
-    external_forces: npt.NDArray[np.float64]
+    external_forces: Optional[npt.NDArray[np.float64]]
     """Force (N) applied from outside to each particle over the coming
     steps: a copy, zeros when none; assign an array, or None to remove."""
 
@@ -87,8 +95,8 @@ class World:
     def dimension(self) -> int:
         """2 for a 2D scene (every particle and gravity in z = 0 at load), else 3."""
     @property
-    def path(self) -> str:
-        """The scene file (``<string>`` for text)."""
+    def path(self) -> "os.PathLike[str]":
+        """The scene file, a ``pathlib.Path`` (``<string>`` for text)."""
     @property
     def masses(self) -> npt.NDArray[np.float64]:
         """Masses (kg): a copy, ``(n,)``."""
@@ -124,7 +132,8 @@ class World:
         """Put back a state ``save_state`` wrote from the same scene
         (``StateError`` otherwise; the World is then unchanged)."""
     def copy(self) -> "World":
-        """A new World of the same scene in the same state."""
+        """A new World of the same scene in the same state (gas nRT set from
+        Python and external forces included)."""
     def picture(self, width: int = 640, height: int = 480) -> bytes:
         """A PNG of the world now, drawn by ``sprung render``'s renderer."""
     def _repr_png_(self) -> bytes:

@@ -98,8 +98,8 @@ def run_task(task: dict) -> dict:
         try:
             # Errors name the run's own scene.toml, where its lines are.
             world = _native.loads(task["scene"], folder, None, "scene.toml")
-            csv_text, error = _native.run(world, task["steps"], task["time"], task["every"],
-                                          None, work)
+            # steps, time and every are in the effective scene.
+            csv_text, error = _native.run(world, None, None, None, None, work)
         except SceneError as e:
             row.update(status="error", message=str(e))
         except ValueError as e:
@@ -207,7 +207,10 @@ def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=
     tasks, rows = [], [None] * len(points)
     for k, point in enumerate(points):
         try:
-            effective = _native.effective_scene(text, path, list(point.items()))
+            # The run's length and records are written into the scene:
+            # its scene.toml alone runs it again.
+            effective = _native.effective_scene(text, path, list(point.items()),
+                                                steps, time, every)
         except (SceneError, ValueError) as e:
             # Values the scene cannot take: a row of its own, no run.
             effective, refused = None, str(e)
@@ -220,7 +223,7 @@ def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=
                        "time": 0.0, "wall_s": 0.0, "final": {}}
             continue
         tasks.append((k, {"id": digest, "scene": effective,
-                          "folder": os.path.abspath(os.path.join(runs, digest)), **options}))
+                          "folder": os.path.abspath(os.path.join(runs, digest))}))
     bar = _Progress(len(points), progress)
     bar.update(done=sum(r is not None for r in rows))
     pending = []
@@ -244,13 +247,23 @@ def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=
 
     if scheduler is None:
         workers = threads or os.cpu_count() or 1
-        with ThreadPoolExecutor(max_workers=workers) as pool:
-            futures = {}
-            for k, task in pending:
-                futures[pool.submit(run_task, task)] = k
-                bar.update(running=1)
+
+        def started(task):
+            bar.update(running=1)
+            return run_task(task)
+
+        pool = ThreadPoolExecutor(max_workers=workers)
+        try:
+            futures = {pool.submit(started, task): k for k, task in pending}
             for future in as_completed(futures):
                 finish(futures[future], future)
+        except BaseException:
+            # Ctrl-C: the runs not started are dropped; those running end
+            # (each between steps) and their folders stand or go whole.
+            pool.shutdown(wait=False, cancel_futures=True)
+            bar.close()
+            raise
+        pool.shutdown()
     else:
         client, own = _client(scheduler)
         try:
@@ -259,6 +272,7 @@ def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=
             for k, task in pending:
                 futures[client.submit(run_task, task, key=f"sprung-run-{task['id']}",
                                       pure=False, retries=2)] = k
+                # Sent to the cluster: counted as running from then on.
                 bar.update(running=1)
             for future in dask_completed(list(futures)):
                 finish(futures[future], future)
@@ -349,15 +363,6 @@ def main(argv=None) -> int:
 
 
 def parse_value(text: str):
-    """A command-line value: an int, a float, true/false, else the text."""
-    lowered = text.strip()
-    if lowered in ("true", "false"):
-        return lowered == "true"
-    for kind in (int, float):
-        try:
-            return kind(lowered)
-        except ValueError:
-            pass
-    if len(lowered) >= 2 and lowered[0] == lowered[-1] == '"':
-        return lowered[1:-1]
-    return lowered
+    """A command line's value as ``--set`` reads it: a TOML value (``1e-4``,
+    ``true``, ``"text"``, ``[0, 1]``), else a bare word as a string."""
+    return _native.parse_value(text.strip())

@@ -10,7 +10,7 @@ use sprung::StepError;
 use sprung_io::SceneError;
 
 /// An instance of `sprung._errors.CLASS(message)` with `fields` set, as a
-/// `PyErr`; if the class cannot be had, a plain `RuntimeError`.
+/// `PyErr`; if the class cannot be had, the error that says why.
 pub fn typed(
     py: Python<'_>,
     class: &str,

@@ -28,6 +28,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pictures::plot, m)?)?;
     m.add_function(wrap_pyfunction!(integrators, m)?)?;
     m.add_function(wrap_pyfunction!(overrides::effective_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(overrides::parse_value, m)?)?;
     Ok(())
 }
 

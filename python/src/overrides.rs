@@ -13,7 +13,7 @@ pub fn overrides(set: Option<Vec<(String, Bound<'_, PyAny>)>>) -> PyResult<Vec<O
     set.unwrap_or_default()
         .into_iter()
         .map(|(key, value)| {
-            let value = to_toml(&value).map_err(|e| bad_value(format!("set: `{key}`: {e}")))?;
+            let value = to_toml(&value, 0).map_err(|e| bad_value(format!("set: `{key}`: {e}")))?;
             Ok(Override::new(key, value))
         })
         .collect()
@@ -22,7 +22,11 @@ pub fn overrides(set: Option<Vec<(String, Bound<'_, PyAny>)>>) -> PyResult<Vec<O
 /// A Python value as TOML: bool, int, float, str, a list or tuple of
 /// them, a dict of them (numpy scalars and arrays through their Python
 /// forms).
-fn to_toml(value: &Bound<'_, PyAny>) -> Result<Value, String> {
+fn to_toml(value: &Bound<'_, PyAny>, depth: usize) -> Result<Value, String> {
+    // Deeper than any scene's value: a list or dict that holds itself.
+    if depth > 32 {
+        return Err("nested more than 32 deep (a list or dict that holds itself?)".into());
+    }
     if value.is_instance_of::<PyBool>() {
         return value
             .extract::<bool>()
@@ -49,7 +53,7 @@ fn to_toml(value: &Bound<'_, PyAny>) -> Result<Value, String> {
         for (key, item) in dict.iter() {
             table.insert(
                 key.str().map_err(|e| e.to_string())?.to_string(),
-                to_toml(&item)?,
+                to_toml(&item, depth + 1)?,
             );
         }
         return Ok(Value::Table(table));
@@ -58,7 +62,7 @@ fn to_toml(value: &Bound<'_, PyAny>) -> Result<Value, String> {
         let items: Vec<Bound<'_, PyAny>> = value.extract().map_err(|e: PyErr| e.to_string())?;
         return items
             .iter()
-            .map(to_toml)
+            .map(|item| to_toml(item, depth + 1))
             .collect::<Result<_, _>>()
             .map(Value::Array);
     }
@@ -66,7 +70,7 @@ fn to_toml(value: &Bound<'_, PyAny>) -> Result<Value, String> {
     for method in ["tolist", "item"] {
         if let Ok(plain) = value.call_method0(method) {
             if !plain.is(value) {
-                return to_toml(&plain);
+                return to_toml(&plain, depth + 1);
             }
         }
     }
@@ -85,18 +89,43 @@ fn to_toml(value: &Bound<'_, PyAny>) -> Result<Value, String> {
 /// meshes are found from `path`'s folder) with `set` applied, as TOML
 /// text whose mesh paths are absolute: what a run of a sweep builds and
 /// keeps as its `scene.toml`, wherever it runs.
+///
+/// `steps` or `time` (s), and `every`, when given, are written into its
+/// `[sim]` table (`steps`, or `duration`, in place of the other), so the
+/// text alone runs as the sweep ran it.
 #[pyfunction]
-#[pyo3(signature = (text, path, set=None))]
+#[pyo3(signature = (text, path, set=None, steps=None, time=None, every=None))]
 pub fn effective_scene(
     py: Python<'_>,
     text: &str,
     path: std::path::PathBuf,
     set: Option<Vec<(String, Bound<'_, PyAny>)>>,
+    steps: Option<u64>,
+    time: Option<f64>,
+    every: Option<u64>,
 ) -> PyResult<String> {
     let overrides = overrides(set)?;
     let scene_error = |e: sprung_io::SceneError| crate::errors::scene_error(py, &e);
     let mut table =
         sprung_io::scene::overridden_table(text, &path, &overrides).map_err(scene_error)?;
+    if steps.is_some() || time.is_some() || every.is_some() {
+        let sim = table
+            .entry("sim")
+            .or_insert_with(|| Value::Table(Table::new()));
+        if let Value::Table(sim) = sim {
+            let count = |n: u64| Value::Integer(i64::try_from(n).unwrap_or(i64::MAX));
+            if let Some(steps) = steps {
+                sim.remove("duration");
+                sim.insert("steps".into(), count(steps));
+            } else if let Some(time) = time {
+                sim.remove("steps");
+                sim.insert("duration".into(), Value::Float(time));
+            }
+            if let Some(every) = every {
+                sim.insert("every".into(), count(every));
+            }
+        }
+    }
     let folder = path.parent().unwrap_or(std::path::Path::new(""));
     let folder = std::path::absolute(folder).unwrap_or_else(|_| folder.to_path_buf());
     let bodies = table.get_mut("body").and_then(Value::as_array_mut);
@@ -106,4 +135,39 @@ pub fn effective_scene(
         }
     }
     sprung_io::scene::scene_toml(&table, &path).map_err(scene_error)
+}
+
+/// A command line's VALUE as `--set KEY=VALUE` reads it (a TOML value, or
+/// a bare word as a string), as a Python value.
+#[pyfunction]
+pub fn parse_value<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
+    let parsed: Override = format!("value={text}")
+        .parse()
+        .map_err(|e: sprung_io::OverrideError| bad_value(e.message))?;
+    from_toml(py, &parsed.value)
+}
+
+/// A TOML value as a Python one.
+fn from_toml<'py>(py: Python<'py>, value: &Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match value {
+        Value::String(text) => text.into_pyobject(py)?.into_any(),
+        Value::Integer(n) => n.into_pyobject(py)?.into_any(),
+        Value::Float(x) => x.into_pyobject(py)?.into_any(),
+        Value::Boolean(b) => PyBool::new(py, *b).to_owned().into_any(),
+        Value::Datetime(d) => d.to_string().into_pyobject(py)?.into_any(),
+        Value::Array(items) => {
+            let list = PyList::empty(py);
+            for item in items {
+                list.append(from_toml(py, item)?)?;
+            }
+            list.into_any()
+        }
+        Value::Table(table) => {
+            let dict = PyDict::new(py);
+            for (key, item) in table {
+                dict.set_item(key, from_toml(py, item)?)?;
+            }
+            dict.into_any()
+        }
+    })
 }

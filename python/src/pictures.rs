@@ -27,12 +27,17 @@ fn settings(sim: &Sim, width: u32, height: u32) -> RenderSettings {
     settings
 }
 
-/// A PNG of `sim`'s world now.
-pub fn picture(py: Python<'_>, sim: &Sim, width: u32, height: u32) -> PyResult<Vec<u8>> {
-    let world = &sim.scene.world;
-    let model = Arc::new(Model::of_world(world));
-    let snapshot = Snapshot::of_world(world, &model);
-    let settings = settings(sim, width, height);
+/// A PNG of `world` now: its snapshot taken under the World's lock, the
+/// drawing done without it and without the GIL.
+pub fn picture(py: Python<'_>, world: &World, width: u32, height: u32) -> PyResult<Vec<u8>> {
+    let (snapshot, settings) = {
+        let sim = world.sim();
+        let model = Arc::new(Model::of_world(&sim.scene.world));
+        (
+            Snapshot::of_world(&sim.scene.world, &model),
+            settings(&sim, width, height),
+        )
+    };
     py.detach(|| {
         let (pictures, _) = render_in_memory(std::slice::from_ref(&snapshot), &settings)?;
         pictures[0].encode_png()
@@ -40,9 +45,9 @@ pub fn picture(py: Python<'_>, sim: &Sim, width: u32, height: u32) -> PyResult<V
     .map_err(|e| bad_value(e.to_string()))
 }
 
-/// Run `world` (a copy of it, when `copy`) for `time` (s) or `steps` and
-/// return an animated GIF of it: `fps` pictures per second of playback,
-/// each a `1/fps` s of simulated time apart (real time).
+/// Run `world` for `time` (s) or `steps` and return an animated GIF of
+/// it: `fps` pictures per second of playback, each a `1/fps` s of
+/// simulated time apart (real time). (`sprung.animate` hands it a copy.)
 #[pyfunction]
 #[pyo3(signature = (world, time=None, steps=None, fps=25.0, width=480, height=360))]
 pub fn animate(
@@ -59,7 +64,9 @@ pub fn animate(
             "fps = {fps}: must be positive (pictures per second)"
         )));
     }
-    let mut world = world.borrow_mut();
+    let mut world = world
+        .try_borrow_mut()
+        .map_err(|_| failed("the World is in use (stepped or read by another thread)"))?;
     let sim = world.sim_mut();
     let steps = match (steps, time) {
         (Some(_), Some(_)) => return Err(bad_value("give steps or time, not both")),
@@ -73,9 +80,11 @@ pub fn animate(
     };
     let every = steps_between_pictures(sim.scene.dt, fps as Real);
     let pictures = steps / every + 2;
-    if pictures > 10_000 {
+    // The pictures are kept until the GIF is made: at most about 1 GB.
+    let bytes = pictures as f64 * f64::from(width) * f64::from(height) * 3.0;
+    if pictures > 10_000 || bytes > 1e9 {
         return Err(bad_value(format!(
-            "{pictures} pictures: at most 10000 in a GIF (lower fps, or animate a shorter time)"
+            "{pictures} pictures of {width}×{height}: at most 10000 and 1 GB of pictures in a GIF (lower fps or the size, or animate a shorter time)"
         )));
     }
     let mut settings = settings(sim, width, height);

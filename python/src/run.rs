@@ -36,7 +36,7 @@ pub fn run(
         })
         .transpose()?;
     if let Ok(world) = scene.cast::<World>() {
-        let mut world = world.borrow_mut();
+        let mut world = world.try_borrow_mut().map_err(crate::world::busy)?;
         run_sim(py, world.sim_mut(), (steps, time, every), integrator, out)
     } else {
         let path: PathBuf = scene
@@ -91,7 +91,15 @@ fn run_sim(
     record(&mut table, sim)?;
     // The rows of `sprung run`: the start, every `every` steps, the end.
     let first = sim.scene.world.steps() + 1;
-    let last = first - 1 + steps;
+    let last = (first - 1)
+        .checked_add(steps)
+        .filter(|&last| last <= sprung_io::scene::MAX_STEPS)
+        .ok_or_else(|| {
+            bad_value(format!(
+                "steps = {steps}: the World would pass the {:.0e} steps a run may take",
+                sprung_io::scene::MAX_STEPS as f64
+            ))
+        })?;
     let mut blow_up = None;
     let mut step = first;
     while step <= last {

@@ -326,7 +326,7 @@ impl World {
 
     /// The body called `name` (a `KeyError` if there is none).
     fn body(slf: Bound<'_, Self>, name: &str) -> PyResult<Body> {
-        let index = slf.borrow().body_index(name)?;
+        let index = slf.try_borrow().map_err(busy)?.body_index(name)?;
         Ok(Body {
             world: slf.unbind(),
             index,
@@ -412,10 +412,12 @@ impl World {
 
     /// A new World of the same scene in the same state.
     fn copy(&self, py: Python<'_>) -> PyResult<World> {
-        let (text, path, dt, integrator, state, applied) = {
+        let (text, path, dt, integrator, state, applied, gases) = {
             let this = self.sim();
             let world = &this.scene.world;
             let applied = this.applied().map(<[Vec3]>::to_vec);
+            // A gas's nRT set from Python is not in the scene's text.
+            let gases: Vec<_> = world.bodies.iter().map(|b| b.gas.clone()).collect();
             (
                 this.text.clone(),
                 this.path(),
@@ -423,6 +425,7 @@ impl World {
                 world.integrator(),
                 world.save_state(),
                 applied,
+                gases,
             )
         };
         let mut sim = build_sim(py, text, &path, &[])?;
@@ -434,6 +437,9 @@ impl World {
             .map_err(|e| failed(e.to_string()))?;
         if applied.is_some() {
             sim.set_applied(applied);
+        }
+        for (body, gas) in sim.scene.world.bodies.iter_mut().zip(gases) {
+            body.gas = gas;
         }
         Ok(World::new(sim))
     }
@@ -450,7 +456,7 @@ impl World {
     /// (camera fitted, springs coloured by strain).
     #[pyo3(signature = (width=640, height=480))]
     fn picture(&self, py: Python<'_>, width: u32, height: u32) -> PyResult<Vec<u8>> {
-        crate::pictures::picture(py, &self.sim(), width, height)
+        crate::pictures::picture(py, self, width, height)
     }
 
     /// The picture Jupyter shows inline.
@@ -475,6 +481,11 @@ impl World {
     }
 }
 
+/// The error for a World that another thread holds (stepping it).
+pub fn busy(_: impl std::fmt::Debug) -> PyErr {
+    failed("the World is in use (stepped or read by another thread): wait for that call to end")
+}
+
 /// A state file's error as `sprung.StateError` (a `ValueError`).
 fn state_error(py: Python<'_>, path: &Path, error: state::StateFileError) -> PyErr {
     typed(
@@ -494,10 +505,14 @@ pub struct Body {
 }
 
 impl Body {
-    fn with<R>(&self, py: Python<'_>, f: impl FnOnce(&World, &Sim, &sprung::Body) -> R) -> R {
-        let world = self.world.borrow(py);
+    fn with<R>(
+        &self,
+        py: Python<'_>,
+        f: impl FnOnce(&World, &Sim, &sprung::Body) -> R,
+    ) -> PyResult<R> {
+        let world = self.world.try_borrow(py).map_err(busy)?;
         let sim = world.sim();
-        f(&world, &sim, &sim.scene.world.bodies[self.index])
+        Ok(f(&world, &sim, &sim.scene.world.bodies[self.index]))
     }
 }
 
@@ -505,37 +520,37 @@ impl Body {
 impl Body {
     /// The body's name.
     #[getter]
-    fn name(&self, py: Python<'_>) -> String {
+    fn name(&self, py: Python<'_>) -> PyResult<String> {
         self.with(py, |_, _, body| body.name.clone())
     }
 
     /// Its particles' indices in the World's arrays: int64 `(k,)`.
     #[getter]
-    fn indices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
-        let range = self.with(py, |_, _, body| body.particles.clone());
-        PyArray1::from_vec(py, range.map(|i| i as i64).collect())
+    fn indices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let range = self.with(py, |_, _, body| body.particles.clone())?;
+        Ok(PyArray1::from_vec(py, range.map(|i| i as i64).collect()))
     }
 
     /// Enclosed volume (m³; area, m², in 2D), `None` for a body that is not closed.
     #[getter]
-    fn volume(&self, py: Python<'_>) -> Option<f64> {
+    fn volume(&self, py: Python<'_>) -> PyResult<Option<f64>> {
         self.with(py, |_, sim, _| sim.scene.world.volume(self.index))
     }
 
     /// Gas pressure (Pa; N/m in 2D), `None` for a body without gas.
     #[getter]
-    fn pressure(&self, py: Python<'_>) -> Option<f64> {
+    fn pressure(&self, py: Python<'_>) -> PyResult<Option<f64>> {
         self.with(py, |_, sim, _| sim.scene.world.pressure(self.index))
     }
 
     /// Centre of mass (m): float64 `(3,)`, `(2,)` in 2D.
     #[getter]
-    fn centroid<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+    fn centroid<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (c, columns) = self.with(py, |world, sim, _| {
             let c = sim.scene.world.centroid(self.index).unwrap_or_default();
             (c, world.columns())
-        });
-        PyArray1::from_vec(py, c.to_array()[..columns].to_vec())
+        })?;
+        Ok(PyArray1::from_vec(py, c.to_array()[..columns].to_vec()))
     }
 
     /// The gas's `nRT` (J) now, for a body with gas (else `None`).
@@ -543,7 +558,7 @@ impl Body {
     /// schedule and leak are dropped): a controller inflating and
     /// deflating the body between steps.
     #[getter]
-    fn nrt(&self, py: Python<'_>) -> Option<f64> {
+    fn nrt(&self, py: Python<'_>) -> PyResult<Option<f64>> {
         self.with(py, |_, sim, body| {
             let t = sim.scene.world.time();
             body.gas.as_ref().map(|gas| gas.nrt_at(t))
@@ -557,7 +572,7 @@ impl Body {
                 "nrt = {nrt}: must be a finite amount of gas, 0 or more (J)"
             )));
         }
-        let mut world = self.world.borrow_mut(py);
+        let mut world = self.world.try_borrow_mut(py).map_err(busy)?;
         let body = &mut world.sim_mut().scene.world.bodies[self.index];
         let Some(gas) = body.gas.as_mut() else {
             return Err(bad_value(format!(
@@ -572,7 +587,7 @@ impl Body {
         Ok(())
     }
 
-    fn __repr__(&self, py: Python<'_>) -> String {
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
         self.with(py, |_, _, body| {
             format!(
                 "<sprung.Body {:?}: {} particles>",

@@ -11,10 +11,14 @@ import sprung
 
 
 def worlds(scenes):
-    """Worlds of different kinds, some at different states."""
+    """Worlds of different kinds, some at different states, one above the
+    engine's parallel chunk (4,225 particles: its loops run on the
+    Batch's pool)."""
     made = [sprung.load(scenes / name) for name in ("ball2d.toml", "ball3d.toml", "cloth.toml", "rope.toml")]
     made[1].step(7)
     made[3].integrator = "rk4"
+    big = (scenes / "cloth.toml").read_text().replace("nx = 20, ny = 20", "nx = 65, ny = 65")
+    made.append(sprung.loads(big, base_dir=scenes))
     return made
 
 
@@ -25,7 +29,7 @@ def test_a_batch_equals_each_world_alone(scenes, threads):
     for world in alone:
         world.step(150)
     batch = sprung.Batch(batched, threads=threads)
-    assert batch.threads == threads and len(batch) == 4
+    assert batch.threads == threads and len(batch) == 5
     batch.step(100)
     batch.step(50)
     for a, b in zip(alone, batch.worlds):

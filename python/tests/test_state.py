@@ -22,8 +22,8 @@ particles = [[0, 0, 0], [1, 0, 0]]
 masses = [2, 4]
 """
 
-PAIR_3D = PAIR.replace("gravity = [0, -8, 0]", "gravity = [0, -8, 0]").replace(
-    "[[0, 0, 0], [1, 0, 0]]", "[[0, 0, 1], [1, 0, 0]]")
+# The same pair off the plane z = 0: a 3D scene.
+PAIR_3D = PAIR.replace("[[0, 0, 0], [1, 0, 0]]", "[[0, 0, 1], [1, 0, 0]]")
 
 
 def test_state_written_from_numpy_is_stepped():
@@ -72,6 +72,15 @@ def test_centroid_follows_the_positions(scenes):
     assert np.allclose(ball.centroid, mean, rtol=0, atol=1e-14)
 
 
+def test_a_flat_surface_is_three_dimensional(scenes):
+    # billow.toml's sheets start in z = 0 with no gravity, and its wind
+    # blows along z: a surface is a 3D body.
+    world = sprung.load(scenes / "billow.toml")
+    assert world.dimension == 3
+    world.step(200)
+    assert np.abs(world.positions[:, 2]).max() > 0
+
+
 def test_shapes_and_dtypes(scenes):
     world = sprung.load(scenes / "cloth.toml")
     n, m = len(world.masses), len(world.rest_lengths)
@@ -111,12 +120,16 @@ def test_arrays_are_copies_that_outlive_their_world(scenes):
     assert not np.shares_memory(world.positions, world.positions)
     body = world.body("rope")
     expected = world.positions.copy()
+    centroid = body.centroid
     del world
     gc.collect()
-    # The array is its own; the Body keeps its World alive.
+    # The Body keeps its World alive.
+    assert body.name == "rope" and np.array_equal(body.centroid, centroid)
+    del body
+    gc.collect()
+    # With the World gone, the arrays are still whole: each is its own.
     assert positions.shape == expected.shape
     assert np.array_equal(positions[1:], expected[1:])
-    assert body.name == "rope" and body.centroid.shape == (2,)  # a 2D scene
 
 
 def test_gas_nrt_can_be_set_between_steps(scenes):
@@ -152,6 +165,9 @@ def test_integrator_switch_and_save_load_state(tmp_path, scenes):
     world.step(5)
     copy.step(5)
     assert np.array_equal(copy.velocities, world.velocities)
+    gas = sprung.load(scenes / "ball2d.toml")
+    gas.body("ball").nrt = 7.0
+    assert gas.copy().body("ball").nrt == 7.0  # set from Python, kept
     with pytest.raises(sprung.StateError):
         sprung.load(scenes / "ball2d.toml", state=path)
     with pytest.raises(ValueError, match="integrator"):

@@ -41,28 +41,35 @@ def check_grid(out, rows, cli, scenes, tmp_path):
     written = (tmp_path / "cli" / "diagnostics.csv").read_text()
     run_dir = out / "runs" / row["id"]
     assert (run_dir / "diagnostics.csv").read_text() == written
-    assert float(row["final.total"]) == float(written.splitlines()[-1].split(",")[6])
-    # The run's folder repeats it alone.
-    cli("run", run_dir / "scene.toml", "--out", tmp_path / "again", "--steps", 400, "--quiet")
+    header, last = written.splitlines()[0].split(","), written.splitlines()[-1].split(",")
+    assert float(row["final.total"]) == float(last[header.index("total")])
+    # The run's folder repeats it alone: its scene.toml holds the steps.
+    cli("run", run_dir / "scene.toml", "--out", tmp_path / "again", "--quiet")
     assert (tmp_path / "again" / "diagnostics.csv").read_text() == written
 
 
-def test_local_sweep_without_dask(tmp_path, cli, scenes):
-    # In a process where dask cannot be imported at all.
+def test_local_sweep_without_dask_from_the_command_line(tmp_path, cli, scenes):
+    # `python -m sprung.sweep`, in a process where dask cannot be imported.
     out = tmp_path / "sweep"
-    code = f"""
-import sys
-sys.modules["dask"] = None
-sys.modules["distributed"] = None
-import sprung
-rows = sprung.sweep({str(scenes / 'ball2d.toml')!r}, grid={GRID!r}, steps=400,
-                    out={str(out)!r}, progress=False)
-print(len(rows))
-"""
+    args = [str(scenes / "ball2d.toml"), "--grid", "sim.dt=2.5e-4,5e-4,0.05",
+            "--grid", "body.ball.gas.nrt=50,100,150", "--steps", "400", "--out", str(out)]
+    code = ("import runpy, sys\n"
+            "sys.modules['dask'] = None\n"
+            "sys.modules['distributed'] = None\n"
+            f"sys.argv = ['sprung.sweep'] + {args!r}\n"
+            "runpy.run_module('sprung.sweep', run_name='__main__')\n")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=300)
     assert done.returncode == 0, done.stderr
+    assert "9 runs (3 blew_up, 6 ok)" in done.stdout
     check_grid(out, range(9), cli, scenes, tmp_path)
+
+
+def test_command_line_values_are_read_as_set_reads_them():
+    from sprung._sweep import parse_value
+    assert parse_value("1e-4") == 1e-4 and parse_value("100") == 100
+    assert parse_value("true") is True and parse_value("rk4") == "rk4"
+    assert parse_value('"rk4"') == "rk4" and parse_value("[0, 1]") == [0, 1]
 
 
 def test_refused_values_are_rows_and_reruns_skip_what_ended(tmp_path, scenes):
@@ -133,6 +140,7 @@ def cluster(tmp_path):
         logs.close()
 
 
+@pytest.mark.timeout(300)
 def test_sweep_on_a_dask_cluster(tmp_path, cli, scenes, cluster):
     address, workers = cluster
     out = tmp_path / "sweep"
@@ -145,6 +153,7 @@ def test_sweep_on_a_dask_cluster(tmp_path, cli, scenes, cluster):
     assert {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*/result.json")} == stamps
 
 
+@pytest.mark.timeout(300)
 def test_a_worker_killed_mid_sweep_costs_only_time(tmp_path, scenes, cluster):
     address, workers = cluster
     out = tmp_path / "sweep"
