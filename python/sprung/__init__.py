@@ -118,7 +118,7 @@ def run(scene: Union[PathLike, World], steps: Optional[int] = None,
         time: Optional[float] = None, every: Optional[int] = None,
         integrator: Optional[str] = None,
         set: Optional[Mapping[str, object]] = None,
-        out: Optional[PathLike] = None) -> Diagnostics:
+        out: Optional[PathLike] = None, format: Optional[str] = None) -> Diagnostics:
     """Run a scene as ``sprung run`` does and return its diagnostics.
 
     Args:
@@ -133,6 +133,8 @@ def run(scene: Union[PathLike, World], steps: Optional[int] = None,
         out: a folder to write ``diagnostics.csv`` into, as ``sprung run
             --out`` does, with the effective ``scene.toml`` (mesh paths
             made absolute) for a scene file.
+        format: also write a frame per row into ``out/frames/``: ``vtu``,
+            ``vtk`` or ``obj``, as ``sprung run --format`` does.
 
     Returns:
         Diagnostics: the table, bit for bit the numbers of ``sprung run``'s
@@ -165,7 +167,7 @@ def run(scene: Union[PathLike, World], steps: Optional[int] = None,
         with open(partial, "w", encoding="utf-8") as f:
             f.write(effective)
         os.replace(partial, os.path.join(out, "scene.toml"))
-    csv, error = _native.run(target, steps, time, every, integrator, out)
+    csv, error = _native.run(target, steps, time, every, integrator, out, format)
     table = Diagnostics(csv)
     if error is not None:
         error.diagnostics = table
@@ -270,7 +272,8 @@ def sweep(scene: PathLike, grid: Optional[Mapping[str, Iterable[object]]] = None
           ranges: Optional[Mapping[str, "tuple[float, float]"]] = None, seed: int = 0,
           steps: Optional[int] = None, time: Optional[float] = None,
           every: Optional[int] = None, out: PathLike = "out/sweep", scheduler=None,
-          threads: Optional[int] = None, progress: bool = True):
+          threads: Optional[int] = None, progress: bool = True,
+          frames: Optional[str] = None):
     """Run ``scene`` once per point of a grid (``{KEY: [values]}``, every
     combination) or of a Latin hypercube (``samples`` points over
     ``ranges``, ``{KEY: (low, high)}``, reproducible from ``seed``), with
@@ -287,10 +290,11 @@ def sweep(scene: PathLike, grid: Optional[Mapping[str, Iterable[object]]] = None
     ``scheduler``: None runs on this machine's cores (``threads`` at once,
     default every core), without Dask; a ``dask.distributed.Client`` or a
     scheduler's address (``tcp://HOST:PORT``) sends each run to that
-    cluster as a task. Returns the rows as dicts. See docs/sweeps.md.
+    cluster as a task. ``frames`` (``vtu``, ``vtk``, ``obj``) also writes
+    each run's frames. Returns the rows as dicts. See docs/sweeps.md.
     """
     from ._sweep import sweep as run_sweep
     grid = None if grid is None else {key: list(values) for key, values in grid.items()}
     return run_sweep(scene, grid=grid, samples=samples, ranges=ranges, seed=seed, steps=steps,
                      time=time, every=every, out=out, scheduler=scheduler, threads=threads,
-                     progress=progress)
+                     progress=progress, frames=frames)

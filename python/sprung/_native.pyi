@@ -46,7 +46,7 @@ def parse_value(text: str) -> object:
 
 def run(scene: Union[str, "World"], steps: Optional[int], time: Optional[float],
         every: Optional[int], integrator: Optional[str],
-        out: Optional[str]) -> Tuple[str, Optional[BaseException]]:
+        out: Optional[str], format: Optional[str] = None) -> Tuple[str, Optional[BaseException]]:
     """Run a scene; the diagnostics CSV text and the error that stopped it
     early, if any (see ``sprung.run``)."""
 

@@ -99,7 +99,8 @@ def run_task(task: dict) -> dict:
             # Errors name the run's own scene.toml, where its lines are.
             world = _native.loads(task["scene"], folder, None, "scene.toml")
             # steps, time and every are in the effective scene.
-            csv_text, error = _native.run(world, None, None, None, None, work)
+            csv_text, error = _native.run(world, None, None, None, None, work,
+                                          task.get("frames"))
         except SceneError as e:
             row.update(status="error", message=str(e))
         except ValueError as e:
@@ -171,7 +172,8 @@ def _client(scheduler):
 
 
 def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=None,
-          every=None, out="out/sweep", scheduler=None, threads=None, progress=True):
+          every=None, out="out/sweep", scheduler=None, threads=None, progress=True,
+          frames=None):
     """Run ``scene`` once per point of a grid or of a Latin hypercube.
 
     Args:
@@ -202,7 +204,7 @@ def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=
             raise ValueError("samples and ranges go together")
         points = [{**p, **s} for p in points for s in latin_hypercube(ranges, samples, seed)]
     keys = list(points[0]) if points else []
-    options = {"steps": steps, "time": time, "every": every}
+    options = {"steps": steps, "time": time, "every": every, "frames": frames}
     runs = os.path.join(os.fspath(out), "runs")
     tasks, rows = [], [None] * len(points)
     for k, point in enumerate(points):
@@ -223,7 +225,8 @@ def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=
                        "time": 0.0, "wall_s": 0.0, "final": {}}
             continue
         tasks.append((k, {"id": digest, "scene": effective,
-                          "folder": os.path.abspath(os.path.join(runs, digest))}))
+                          "folder": os.path.abspath(os.path.join(runs, digest)),
+                          "frames": frames}))
     bar = _Progress(len(points), progress)
     bar.update(done=sum(r is not None for r in rows))
     pending = []
@@ -331,6 +334,8 @@ def main(argv=None) -> int:
     parser.add_argument("--every", type=int)
     parser.add_argument("--scheduler", metavar="ADDRESS")
     parser.add_argument("--threads", type=int)
+    parser.add_argument("--format", choices=["vtu", "vtk", "obj"],
+                        help="also write each run's frames (runs/<id>/frames/)")
     parser.add_argument("--out", required=True)
     args = parser.parse_args(argv)
     try:
@@ -350,7 +355,8 @@ def main(argv=None) -> int:
                 parser.error(f"--range {item}: expected KEY=LO:HI")
         rows = sweep(args.scene, grid=grid or None, samples=args.samples, ranges=ranges or None,
                      seed=args.seed, steps=args.steps, time=args.time, every=args.every,
-                     out=args.out, scheduler=args.scheduler, threads=args.threads)
+                     out=args.out, scheduler=args.scheduler, threads=args.threads,
+                     frames=args.format)
     except (OSError, ValueError, ImportError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 1

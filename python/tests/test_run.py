@@ -104,3 +104,18 @@ def test_a_bad_override_names_its_key(scenes):
     assert caught.value.field == "sim.dt"
     with pytest.raises(ValueError, match="no TOML form"):
         sprung.load(scenes / "ball2d.toml", set={"sim.dt": object()})
+
+
+def test_frames_are_the_command_lines(tmp_path, cli, scenes):
+    scene = scenes / "ball3d.toml"
+    cli("run", scene, "--out", tmp_path / "cli", "--steps", 100, "--every", 25,
+        "--format", "vtu", "--quiet")
+    sprung.run(scene, steps=100, every=25, out=tmp_path / "py", format="vtu")
+    names = sorted(p.name for p in (tmp_path / "cli" / "frames").iterdir())
+    assert names == sorted(p.name for p in (tmp_path / "py" / "frames").iterdir())
+    assert len([n for n in names if n.endswith(".vtu")]) == 5  # rows 0, 25, 50, 75, 100
+    for name in names:
+        assert (tmp_path / "cli" / "frames" / name).read_bytes() == \
+            (tmp_path / "py" / "frames" / name).read_bytes(), name
+    with pytest.raises(ValueError, match="out="):
+        sprung.run(scene, steps=1, format="vtu")

@@ -196,3 +196,13 @@ def test_a_run_that_fails_unexpectedly_is_a_row(tmp_path, scenes, monkeypatch):
     assert [r["status"] for r in rows] == ["ok", "error"]
     assert rows[1]["message"] == "OSError: disk full"
     assert len(read(tmp_path / "sweep.csv")) == 2
+
+
+def test_frames_only_when_asked(tmp_path, scenes):
+    rows = sprung.sweep(scenes / "ball2d.toml", grid={"body.ball.gas.nrt": [50]}, steps=20,
+                        every=10, out=tmp_path / "a", progress=False)
+    assert not (tmp_path / "a" / "runs" / rows[0]["id"] / "frames").exists()
+    rows = sprung.sweep(scenes / "ball2d.toml", grid={"body.ball.gas.nrt": [50]}, steps=20,
+                        every=10, out=tmp_path / "b", frames="vtk", progress=False)
+    frames = tmp_path / "b" / "runs" / rows[0]["id"] / "frames"
+    assert len(list(frames.glob("frame_*.vtk"))) == 3
