@@ -86,17 +86,8 @@ class Diagnostics(dict):
     """
 
     def __init__(self, csv: str):
-        lines = csv.splitlines()
-        names = lines[0].split(",") if lines else []
-        rows = [line.split(",") for line in lines[1:]]
-        columns = {}
-        for k, name in enumerate(names):
-            cells = [row[k] for row in rows]
-            if name == "step":
-                columns[name] = np.array([int(c) for c in cells], dtype=np.int64)
-            else:
-                columns[name] = np.array(
-                    [float(c) if c else np.nan for c in cells], dtype=np.float64)
+        # Read by the reader of `sprung plot`: exact, NaN for empty cells.
+        columns = dict(_native.columns(csv)) if csv.strip() else {}
         super().__init__(columns)
         self.csv = csv
 

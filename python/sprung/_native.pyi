@@ -62,6 +62,11 @@ def plot(text: str, name: str = "run", width: int = 1000,
     body has gas."""
 
 
+def columns(text: str) -> List[Tuple[str, npt.NDArray]]:
+    """The columns of a diagnostics CSV text (``step`` int64, the rest
+    float64 with NaN for empty cells)."""
+
+
 class World:
     """A simulated world: particles joined by springs, bodies, colliders.
 

@@ -26,6 +26,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(pictures::animate, m)?)?;
     m.add_function(wrap_pyfunction!(pictures::plot, m)?)?;
+    m.add_function(wrap_pyfunction!(pictures::columns, m)?)?;
     m.add_function(wrap_pyfunction!(integrators, m)?)?;
     m.add_function(wrap_pyfunction!(overrides::effective_scene, m)?)?;
     m.add_function(wrap_pyfunction!(overrides::parse_value, m)?)?;

@@ -6,6 +6,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use numpy::PyArray1;
 use pyo3::prelude::*;
 use sprung::Real;
 use sprung_view::plot::{energy_png, gas_png, DiagnosticsTable, PlotError, PlotOptions};
@@ -68,16 +69,7 @@ pub fn animate(
         .try_borrow_mut()
         .map_err(|_| failed("the World is in use (stepped or read by another thread)"))?;
     let sim = world.sim_mut();
-    let steps = match (steps, time) {
-        (Some(_), Some(_)) => return Err(bad_value("give steps or time, not both")),
-        (Some(0), None) => return Err(bad_value("steps must be at least 1")),
-        (Some(n), None) => n,
-        (None, Some(t)) => sim
-            .scene
-            .steps_in(t)
-            .ok_or_else(|| bad_value(format!("time = {t}: must be a positive, finite time (s)")))?,
-        (None, None) => sim.scene.steps,
-    };
+    let steps = sim.planned_steps(steps, time)?;
     let every = steps_between_pictures(sim.scene.dt, fps as Real);
     let pictures = steps / every + 2;
     // The pictures are kept until the GIF is made: at most about 1 GB.
@@ -130,4 +122,28 @@ pub fn plot(
         Ok::<_, PlotError>(pngs)
     })
     .map_err(|e| bad_value(e.to_string()))
+}
+
+/// The columns of a diagnostics CSV `text`, read by `sprung plot`'s
+/// reader: each name with its values (NaN for an empty cell), `step` as
+/// whole numbers.
+#[pyfunction]
+pub fn columns<'py>(py: Python<'py>, text: &str) -> PyResult<Vec<(String, Bound<'py, PyAny>)>> {
+    let table = DiagnosticsTable::parse(text, Path::new("diagnostics.csv"))
+        .map_err(|e| bad_value(e.to_string()))?;
+    table
+        .names()
+        .iter()
+        .map(|name| {
+            let cells = table.column(name).unwrap_or_default();
+            let array = if name == "step" {
+                let steps: Vec<i64> = cells.iter().map(|c| c.unwrap_or(0.0) as i64).collect();
+                PyArray1::from_vec(py, steps).into_any()
+            } else {
+                let values: Vec<f64> = cells.iter().map(|c| c.unwrap_or(f64::NAN)).collect();
+                PyArray1::from_vec(py, values).into_any()
+            };
+            Ok((name.clone(), array))
+        })
+        .collect()
 }

@@ -76,18 +76,7 @@ fn run_sim(
     if let Some(kind) = integrator {
         sim.scene.world.set_integrator(kind);
     }
-    let steps = match (steps, time) {
-        (Some(_), Some(_)) => return Err(bad_value("give steps or time, not both")),
-        (Some(0), None) => return Err(bad_value("steps must be at least 1")),
-        (Some(n), None) => n,
-        (None, Some(t)) => sim.scene.steps_in(t).ok_or_else(|| {
-            bad_value(format!(
-                "time = {t}: must be a positive, finite time (s) of at most {:.0e} steps",
-                sprung_io::scene::MAX_STEPS as f64
-            ))
-        })?,
-        (None, None) => sim.scene.steps,
-    };
+    let steps = sim.planned_steps(steps, time)?;
     if every == Some(0) {
         return Err(bad_value("every must be at least 1"));
     }

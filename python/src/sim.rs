@@ -4,9 +4,12 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use pyo3::PyResult;
 use sprung::forces::AppliedForces;
 use sprung::{StepError, Vec3};
 use sprung_io::Scene;
+
+use crate::errors::bad_value;
 
 /// How long a call steps between looks at Python's signals (Ctrl-C).
 pub const SIGNAL_CHECK: Duration = Duration::from_millis(50);
@@ -70,6 +73,24 @@ impl Sim {
             sprung::parallel::in_pool(run)
         } else {
             run()
+        }
+    }
+
+    /// The steps a call runs: `steps`, or `time` (s) in steps of `dt`, or
+    /// the scene's own; both, none of them positive, or more than
+    /// [`sprung_io::scene::MAX_STEPS`] are refused.
+    pub fn planned_steps(&self, steps: Option<u64>, time: Option<f64>) -> PyResult<u64> {
+        match (steps, time) {
+            (Some(_), Some(_)) => Err(bad_value("give steps or time, not both")),
+            (Some(0), None) => Err(bad_value("steps must be at least 1")),
+            (Some(n), None) => Ok(n),
+            (None, Some(t)) => self.scene.steps_in(t).ok_or_else(|| {
+                bad_value(format!(
+                    "time = {t}: must be a positive, finite time (s) of at most {:.0e} steps",
+                    sprung_io::scene::MAX_STEPS as f64
+                ))
+            }),
+            (None, None) => Ok(self.scene.steps),
         }
     }
 
