@@ -14,6 +14,7 @@ mod checkpoint;
 static ALLOCATOR: bench::memory::Counting = bench::memory::Counting;
 mod demos;
 mod interrupt;
+mod intersections;
 mod outputs;
 mod plot;
 mod render;
@@ -68,8 +69,13 @@ enum Command {
     },
     /// Load and validate a scene without running it: counts, memory, and dt against the stable step.
     Check {
-        /// The scene file (TOML).
+        /// The scene file (TOML); with `--intersections`, a run's output
+        /// folder.
         scene: PathBuf,
+        /// Count, frame by frame, particles that passed through a surface
+        /// and edges through triangles in the run folder's frames.
+        #[arg(long)]
+        intersections: bool,
         /// Set a key of the scene: `sim.dt=1e-4`, `body.NAME.stiffness=200`,
         /// `collider.0.friction=0.5` (repeatable; docs/scenes.md, "Overrides").
         #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -179,7 +185,12 @@ fn main() -> ExitCode {
             }
         }
         Command::Bench(args) => bench::run(&args),
-        Command::Check { scene, set } => check::run(&scene, &set),
+        Command::Check {
+            scene,
+            intersections: true,
+            ..
+        } => intersections::run(&scene),
+        Command::Check { scene, set, .. } => check::run(&scene, &set),
         Command::Render(args) => render::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::View(args) => view::run(&args),

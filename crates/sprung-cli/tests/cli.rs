@@ -69,7 +69,7 @@ fn run_writes_the_contracted_columns() {
         "--quiet prints nothing"
     );
     let (header, rows) = csv(&dir.path().join("res/diagnostics.csv"));
-    let expected = "step,time,kinetic,spring,gravity,gas,total,contact,gravitation,contacts,solver_iterations,solver_residual,substeps,step_size,bob.volume,bob.pressure,bob.cx,bob.cy,bob.cz,p1.x,p1.y,p1.z";
+    let expected = "step,time,kinetic,spring,gravity,gas,total,contact,gravitation,contacts,solver_iterations,solver_residual,substeps,step_size,ccd_impulses,ccd_zones,bob.volume,bob.pressure,bob.cx,bob.cy,bob.cz,p1.x,p1.y,p1.z";
     assert_eq!(header.join(","), expected);
     // Step 0, then every 10th of 100 steps.
     assert_eq!(rows.len(), 11);

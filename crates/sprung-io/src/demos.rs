@@ -135,6 +135,18 @@ pub const DEMOS: &[Demo] = &[
         every_integrator: false,
     },
     Demo {
+        name: "bullet",
+        about: "a gas ball fired into a pinned cloth at 100 m/s, and caught",
+        text: include_str!("../../../scenes/bullet.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "twist",
+        about: "a cloth tube twisted on itself: folds pressed on folds, none through",
+        text: include_str!("../../../scenes/twist.toml"),
+        every_integrator: false,
+    },
+    Demo {
         name: "cloth",
         about: "a cloth hanging from two corners",
         text: include_str!("../../../scenes/cloth.toml"),
@@ -228,6 +240,10 @@ const MESHES: &[(&str, &[u8])] = &[
     (
         "horse.obj",
         include_bytes!("../../../scenes/meshes/horse.obj"),
+    ),
+    (
+        "tube.obj",
+        include_bytes!("../../../scenes/meshes/tube.obj"),
     ),
 ];
 

@@ -7,6 +7,7 @@
 //! frame sequences), each written completely or not at all; and state
 //! files to resume a run ([`state`]).
 
+pub mod crossings;
 pub mod demos;
 pub mod export;
 pub mod input;

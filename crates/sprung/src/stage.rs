@@ -31,7 +31,7 @@ use std::fmt;
 use std::time::{Duration, Instant};
 
 /// A stage of the step, in the order the step runs them. Stages from
-/// [`Stage::Muscles`] to [`Stage::Constrain`] run once per substep.
+/// [`Stage::Muscles`] to [`Stage::Ccd`] run once per substep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Stage {
     /// The candidate contact pairs between bodies (the broad and narrow
@@ -55,12 +55,15 @@ pub enum Stage {
     Friction,
     /// Rods and rigid bodies put back on their lengths and shapes.
     Constrain,
+    /// The guarantee: continuous collision detection over the step's
+    /// motion, impulses and impact zones, so that no crossing survives.
+    Ccd,
     /// The step's statistics and the check for a blown-up state.
     Guard,
 }
 
 /// The number of stages.
-const STAGES: usize = 9;
+const STAGES: usize = 10;
 
 impl Stage {
     /// Every stage, in the order the step runs them.
@@ -73,6 +76,7 @@ impl Stage {
         Stage::Collide,
         Stage::Friction,
         Stage::Constrain,
+        Stage::Ccd,
         Stage::Guard,
     ];
 
@@ -87,6 +91,7 @@ impl Stage {
             Stage::Collide => "collide",
             Stage::Friction => "friction",
             Stage::Constrain => "constrain",
+            Stage::Ccd => "ccd",
             Stage::Guard => "guard",
         }
     }

@@ -191,7 +191,9 @@ impl Diagnostics {
     /// without a gas; the solver's iterations and residual (of the step
     /// that led to this state) for the explicit integrators and the
     /// starting row; the substeps and the last substep's length (s) where a
-    /// step was split (`rk45`, `substeps`).
+    /// step was split (`rk45`, `substeps`); the impulses and impact zones
+    /// of the guarantee behind the contacts in the step that led here
+    /// (`ccd_impulses`, `ccd_zones`).
     pub fn record(&mut self, world: &World) -> io::Result<()> {
         let optional = |value: Option<f64>| value.map(|v| Real(v).to_string()).unwrap_or_default();
         let report = world.last_step_report();
@@ -199,13 +201,16 @@ impl Diagnostics {
         for (_, energy) in energy_columns(world, &self.energy_names) {
             row.push_str(&format!(",{}", Real(energy)));
         }
+        let ccd = world.last_ccd_report();
         row.push_str(&format!(
-            ",{},{},{},{},{}",
+            ",{},{},{},{},{},{},{}",
             world.active_contacts(),
             report.iterations.map(|i| i.to_string()).unwrap_or_default(),
             optional(report.residual),
             report.substeps.map(|n| n.to_string()).unwrap_or_default(),
             optional(report.step_size),
+            ccd.impulses,
+            ccd.zones,
         ));
         for index in 0..world.bodies.len() {
             let c = world.centroid(index).unwrap_or_default();
@@ -344,7 +349,9 @@ fn header(world: &World, probes: &[usize]) -> String {
         }
         header.push_str(&format!(",{name}"));
     }
-    header.push_str(",contacts,solver_iterations,solver_residual,substeps,step_size");
+    header.push_str(
+        ",contacts,solver_iterations,solver_residual,substeps,step_size,ccd_impulses,ccd_zones",
+    );
     for body in &world.bodies {
         for column in ["volume", "pressure", "cx", "cy", "cz"] {
             header.push_str(&format!(",{}.{column}", body.name));

@@ -159,7 +159,12 @@ pub(crate) fn body_data(
             ),
         ));
     }
-    Ok(data)
+    // A spin about the placed body's centre of mass, on top of its
+    // velocity.
+    match table.spin.as_deref() {
+        Some(spin) => Ok(data.with_spin(vector("spin", spin)?)),
+        None => Ok(data),
+    }
 }
 
 fn builder(

@@ -86,6 +86,7 @@ pub(super) fn contact(
         friction: table.friction.unwrap_or(defaults.friction),
         stiffness: table.stiffness,
         damping: table.damping,
+        ccd: table.ccd.unwrap_or(defaults.ccd),
     };
     settings
         .validate_within(limits.max_distance, limits.max_speed)

@@ -60,6 +60,8 @@ pub(crate) struct ContactTable {
     pub stiffness: Option<f64>,
     #[serde(default)]
     pub damping: Option<f64>,
+    #[serde(default)]
+    pub ccd: Option<bool>,
 }
 
 /// `[camera]`: where pictures of the scene are taken from.
@@ -265,6 +267,8 @@ pub(crate) struct BodyTable {
     pub velocity: Option<Vec<f64>>,
     #[serde(default)]
     pub velocities: Option<Vec<Vec<f64>>>,
+    #[serde(default)]
+    pub spin: Option<Vec<f64>>,
     #[serde(default)]
     pub scale: Option<f64>,
     #[serde(default)]

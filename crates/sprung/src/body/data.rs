@@ -396,6 +396,39 @@ impl BodyData {
         self
     }
 
+    /// Add the velocity of a spin `spin` (rad/s, about an axis through the
+    /// body's centre of mass) to every particle's: `ω × (x − c)`, with `c`
+    /// the centre of mass (its particles' masses; their mean where those
+    /// do not add up to a positive mass). Pinned particles (see
+    /// [`BodyData::pinned`]) keep their velocity.
+    ///
+    /// ```
+    /// use sprung::{BodyData, Vec3};
+    ///
+    /// let body = BodyData::from_positions(vec![-Vec3::X, Vec3::X]).with_spin(2.0 * Vec3::Z);
+    /// assert_eq!(body.velocity, [-2.0 * Vec3::Y, 2.0 * Vec3::Y]);
+    /// ```
+    pub fn with_spin(mut self, spin: Vec3) -> Self {
+        let total: Real = self.mass.iter().sum();
+        let centre = if total > 0.0 && total.is_finite() {
+            self.position
+                .iter()
+                .zip(&self.mass)
+                .map(|(x, m)| *x * *m)
+                .sum::<Vec3>()
+                / total
+        } else {
+            self.position.iter().sum::<Vec3>() / self.position.len().max(1) as Real
+        };
+        self.velocity.resize(self.position.len(), Vec3::ZERO);
+        for (i, (v, x)) in self.velocity.iter_mut().zip(&self.position).enumerate() {
+            if !self.pinned.contains(&i) {
+                *v += spin.cross(*x - centre);
+            }
+        }
+        self
+    }
+
     /// Place the body: scale by `scale` (uniform, about the origin), then
     /// rotate by `rotate_degrees` about x, then y, then z, then translate
     /// by `translate` (m). Explicit rest lengths scale too; velocities turn

@@ -80,6 +80,7 @@
 //! a particle that crossed within a step is pushed back, not on through.
 //! Edges meet edges where a surface is open or collides with itself.
 
+pub mod ccd;
 pub(crate) mod geometry;
 #[doc(hidden)]
 pub mod grid;
@@ -156,6 +157,10 @@ pub struct ContactSettings {
     /// Penalty damping on the normal relative velocity (N·s/m); `None`:
     /// `m v_ref / h` per contact.
     pub damping: Option<Real>,
+    /// The guarantee behind the penalty ([`ccd`]): continuous collision
+    /// detection over each step's motion, so that no particle passes
+    /// through a surface. Default on.
+    pub ccd: bool,
 }
 
 impl Default for ContactSettings {
@@ -166,6 +171,7 @@ impl Default for ContactSettings {
             friction: 0.0,
             stiffness: None,
             damping: None,
+            ccd: true,
         }
     }
 }
@@ -333,6 +339,7 @@ pub struct Contacts {
     scratch: detect::Scratch,
     found: detect::Found,
     links: links::Links,
+    pub(crate) guarantee: ccd::Guarantee,
 }
 
 impl Contacts {

@@ -29,6 +29,7 @@
 use crate::body::Body;
 use crate::colliders::{Collider, ColliderContacts};
 use crate::constrain::{ConstraintSettings, Muscles, RigidBodies, RodReport, Rods};
+use crate::contact::ccd::CcdReport;
 use crate::contact::{BodyContacts, Contacts};
 use crate::forces::{AirDrag, ForceList, GasPressure, Gravity, SpringForce, StiffnessBounds};
 use crate::integrate::{Integrator, IntegratorKind, SolverSettings, StepReport};
@@ -40,6 +41,7 @@ use crate::{Real, Vec3};
 
 mod bodies;
 mod dynamics;
+mod guarantee;
 mod observe;
 mod state;
 mod step;
@@ -166,6 +168,11 @@ pub struct World {
     step_start: Vec<Vec3>,
     /// Positions before the rods' projection (scratch).
     rod_scratch: Vec<Vec3>,
+    /// Positions at the start of the (sub)step, for the guarantee's
+    /// continuous collision detection (empty where it has nothing to do).
+    ccd_start: Vec<Vec3>,
+    /// What the guarantee did in the last step.
+    last_ccd: CcdReport,
     /// What the rods' projection did in the last step.
     last_rods: RodReport,
     constraint_stats: ConstraintStats,
@@ -227,6 +234,8 @@ impl World {
             names: std::collections::HashMap::new(),
             step_start: Vec::new(),
             rod_scratch: Vec::new(),
+            ccd_start: Vec::new(),
+            last_ccd: CcdReport::default(),
             last_rods: RodReport::default(),
             constraint_stats: ConstraintStats::default(),
             integrator: integrator.create(),
@@ -450,6 +459,13 @@ impl World {
     /// largest relative length error left.
     pub fn last_rod_report(&self) -> RodReport {
         self.last_rods
+    }
+
+    /// What the guarantee behind the contacts did in the last step
+    /// ([`crate::contact::ccd`]): its impulses and impact zones, summed
+    /// over the substeps.
+    pub fn last_ccd_report(&self) -> CcdReport {
+        self.last_ccd
     }
 
     /// How often the rods' projection stopped above its tolerance so far

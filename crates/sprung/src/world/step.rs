@@ -1,9 +1,10 @@
 //! The step: a walk over its stages (detect, substeps, muscles,
-//! integrate with the forces, collide, friction, constrain, guard).
+//! integrate with the forces, collide, friction, constrain, ccd, guard).
 
 use crate::body::{self, Body};
 use crate::colliders;
 use crate::constrain::RodReport;
+use crate::contact::ccd::CcdReport;
 use crate::contact::{Contacts, RigidParts, TooManyPairs};
 use crate::error::{BlowUpReason, BuildError, StepError};
 use crate::forces::ImpulseContext;
@@ -77,13 +78,20 @@ impl World {
         let substeps = self.stage(Stage::Substeps, |w| w.substeps(dt));
         let h = dt / Real::from(substeps);
         let mut report = StepReport::default();
+        let guarded = self.mark_guarded();
+        let mut ccd = CcdReport::default();
         for _ in 0..substeps {
+            if guarded {
+                self.ccd_start.clone_from(&self.particles.position);
+            }
             self.stage(Stage::Muscles, World::move_muscles)?;
             report = report.then(self.stage(Stage::Integrate, |w| w.integrate(h))?);
             self.stage(Stage::Collide, World::collide);
             self.stage(Stage::Friction, |w| w.friction(h));
             self.stage(Stage::Constrain, |w| w.constrain(h));
+            ccd = ccd.then(self.stage(Stage::Ccd, |w| w.guarantee(h)));
         }
+        self.last_ccd = ccd;
         if substeps > 1 {
             report.substeps = Some(substeps);
             report.step_size = Some(h);

@@ -1,0 +1,356 @@
+//! The guarantee behind the penalty contacts (docs/physics.md §8): after
+//! each (sub)step's forces, continuous collision detection over the motion
+//! the step made, from where the particles were to where the integrator
+//! (and the colliders, rods and rigid bodies) put them, so that no
+//! crossing survives a step, at any speed or `dt`.
+//!
+//! **Method** (Bridson, Fedkiw and Anderson 2002; Harmon et al. 2008).
+//! Each particle is taken to move on a straight line over the step. The
+//! broad phase (`broad`) pairs the elements whose swept boxes overlap;
+//! the narrow phase (`narrow`) finds the pairs that come within the gap
+//! `δ` ([`GAP`] times the thickness) at some moment: a point and a
+//! triangle or two edges where they become coplanar (3D), a point and a
+//! segment (2D), two particles of bodies without surfaces, balls of radius
+//! [`RADIUS`] times the thickness. Each collision gets an inelastic impulse
+//! that leaves its two sides `2δ` apart along the normal of the side the
+//! point started on, with Coulomb friction (the `[contact]` friction) on
+//! the relative tangential motion, shared among the particles by their
+//! weights and inverse masses, so momentum is kept exactly. The impulses
+//! change where the particles end the step, and their velocities by the
+//! same change over `dt`. The search runs again after each round of
+//! impulses; after [`IMPULSE_ROUNDS`] rounds, colliding particles are
+//! merged into impact zones that move rigidly (`zones`), merging again
+//! until no collision is left between zones: a rigid motion has none
+//! within a zone.
+//!
+//! The search and the impulses run in a fixed order, so the result is the
+//! same bits on any number of threads.
+
+mod broad;
+mod colliders;
+mod narrow;
+mod zones;
+
+pub(crate) use colliders::sweep_colliders;
+
+use crate::body::Body;
+use crate::constrain::RigidBody;
+use crate::{Real, Vec3};
+use broad::{Elements, Kind, Sweep};
+use narrow::{Hit, Moving};
+use zones::Zones;
+
+/// The gap `δ` (in contact thicknesses) within which the guarantee counts
+/// two elements as colliding; each collision is left `2δ` apart.
+pub const GAP: Real = 1e-3;
+
+/// The radius (in contact thicknesses) of the balls the particles of
+/// bodies without surfaces are to the guarantee: they never come closer
+/// than twice it while closing.
+pub const RADIUS: Real = 0.1;
+
+/// Rounds of impulses before impact zones.
+pub const IMPULSE_ROUNDS: usize = 4;
+
+/// What the guarantee did in a step: its impulses and impact zones.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CcdReport {
+    /// Collisions given an impulse (summed over the rounds and substeps).
+    pub impulses: u64,
+    /// Impact zones of more than one particle moved rigidly.
+    pub zones: u64,
+}
+
+impl CcdReport {
+    /// This report and `next` (a later substep's) together.
+    pub fn then(self, next: CcdReport) -> CcdReport {
+        CcdReport {
+            impulses: self.impulses + next.impulses,
+            zones: self.zones + next.zones,
+        }
+    }
+}
+
+/// The guarantee's buffers, kept from step to step.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Guarantee {
+    elements: Elements,
+    sweep: Sweep,
+    hits: Vec<Hit>,
+    zones: Zones,
+    /// Where the particles ended the step before the guarantee (m).
+    before: Vec<Vec3>,
+    /// Zone roots, and the particles of their zones (scratch).
+    involved: Vec<u32>,
+    members: Vec<u32>,
+    /// The contact thickness (m) of this stage: the least margin of the
+    /// broad phase.
+    thickness: Real,
+}
+
+/// The motion the guarantee corrects: where each particle started the
+/// (sub)step and ended it (m), their velocities (m/s) and inverse masses
+/// (1/kg).
+pub(crate) struct Motion<'a> {
+    pub start: &'a [Vec3],
+    pub position: &'a mut [Vec3],
+    pub velocity: &'a mut [Vec3],
+    pub inverse_mass: &'a [Real],
+}
+
+impl Guarantee {
+    /// Clear every collision of the step of `dt` (s) between `bodies`
+    /// (contact `thickness` in m, Coulomb `friction`); `rigid` bodies
+    /// move as one zone each.
+    pub fn resolve(
+        &mut self,
+        bodies: &[Body],
+        rigid: &[RigidBody],
+        motion: Motion<'_>,
+        thickness: Real,
+        friction: Real,
+        dt: Real,
+    ) -> CcdReport {
+        let mut report = CcdReport::default();
+        if !self.elements.gather(bodies) {
+            return report;
+        }
+        let Motion {
+            start,
+            position,
+            velocity,
+            inverse_mass,
+        } = motion;
+        let gap = GAP * thickness;
+        let radius = RADIUS * thickness;
+        self.thickness = thickness;
+        self.before.clear();
+        self.before.extend_from_slice(position);
+        let mut zoned = false;
+        for round in 0.. {
+            self.find(start, position, gap, radius);
+            if round >= IMPULSE_ROUNDS {
+                if !zoned {
+                    zoned = true;
+                    self.start_zones(rigid, position.len());
+                }
+                // Collisions within a zone cannot happen but by rounding:
+                // passed over, so that the merging ends.
+                let zones = &mut self.zones;
+                self.hits.retain(|hit| {
+                    let first = zones.find(hit.particles[0]);
+                    hit.particles
+                        .iter()
+                        .zip(hit.weights)
+                        .any(|(&p, w)| w != 0.0 && zones.find(p) != first)
+                });
+            }
+            if self.hits.is_empty() {
+                break;
+            }
+            if round < IMPULSE_ROUNDS {
+                report.impulses += self.hits.len() as u64;
+                for hit in &self.hits {
+                    respond(hit, start, position, inverse_mass, friction);
+                }
+                if !rigid.is_empty() {
+                    self.keep_rigid(rigid, start, position, inverse_mass);
+                }
+                continue;
+            }
+            report.zones += self.merge(start, position, inverse_mass);
+        }
+        for ((x, v), before) in position.iter().zip(velocity.iter_mut()).zip(&self.before) {
+            if x != before {
+                *v += (*x - *before) / dt;
+            }
+        }
+        report
+    }
+
+    /// The collisions of the motion from `start` to `end` (m) into `hits`,
+    /// in the sweep's order.
+    fn find(&mut self, start: &[Vec3], end: &[Vec3], gap: Real, radius: Real) {
+        let elements = &self.elements;
+        let hits = &mut self.hits;
+        hits.clear();
+        self.sweep
+            .prepare(elements, start, end, self.thickness, gap, radius);
+        self.sweep.overlaps(elements, |a, b| {
+            let (ea, eb) = (&elements.list[a], &elements.list[b]);
+            if let Some(hit) = test(ea, eb, start, end, gap, radius) {
+                hits.push(hit);
+            }
+        });
+    }
+
+    /// After a round of impulses, put the rigid bodies the impulses moved
+    /// back on one rigid motion each.
+    fn keep_rigid(
+        &mut self,
+        rigid: &[RigidBody],
+        start: &[Vec3],
+        position: &mut [Vec3],
+        inverse_mass: &[Real],
+    ) {
+        self.involved.clear();
+        for body in rigid {
+            let hit = self.hits.iter().any(|h| {
+                h.particles
+                    .iter()
+                    .any(|&p| body.particles.contains(&(p as usize)))
+            });
+            if hit {
+                self.involved.clear();
+                self.involved
+                    .extend(body.particles.clone().map(|i| i as u32));
+                zones::move_rigidly(&self.involved, start, position, inverse_mass);
+            }
+        }
+    }
+
+    /// Every particle its own zone but those of a rigid body, one each.
+    fn start_zones(&mut self, rigid: &[RigidBody], particles: usize) {
+        self.zones.reset(particles);
+        for body in rigid {
+            let first = body.particles.start as u32;
+            for i in body.particles.clone() {
+                self.zones.union(first, i as u32);
+            }
+        }
+    }
+
+    /// Merge the zones of this round's collisions and move each zone they
+    /// touch rigidly (a rigid body's particles with their whole body);
+    /// returns how many zones moved.
+    fn merge(&mut self, start: &[Vec3], position: &mut [Vec3], inverse_mass: &[Real]) -> u64 {
+        let mut roots = std::mem::take(&mut self.involved);
+        roots.clear();
+        for hit in &self.hits {
+            let first = hit.particles[0];
+            for (&p, w) in hit.particles.iter().zip(hit.weights) {
+                if w != 0.0 {
+                    self.zones.union(first, p);
+                }
+            }
+        }
+        for hit in &self.hits {
+            roots.push(self.zones.find(hit.particles[0]));
+        }
+        roots.sort_unstable();
+        roots.dedup();
+        let mut members = std::mem::take(&mut self.members);
+        members.clear();
+        for p in 0..position.len() as u32 {
+            if roots.binary_search(&self.zones.find(p)).is_ok() {
+                members.push(p);
+            }
+        }
+        for &root in &roots {
+            self.zones
+                .rigidify(root, &members, start, position, inverse_mass);
+        }
+        self.members = members;
+        let moved = roots.len() as u64;
+        self.involved = roots;
+        moved
+    }
+}
+
+/// The narrow test of a pair of elements (`a` a point, or an edge against
+/// an edge).
+fn test(
+    a: &broad::Element,
+    b: &broad::Element,
+    start: &[Vec3],
+    end: &[Vec3],
+    gap: Real,
+    radius: Real,
+) -> Option<Hit> {
+    let moving = |ids: &[u32]| -> ([Vec3; 4], [Vec3; 4]) {
+        let mut s = [Vec3::ZERO; 4];
+        let mut u = [Vec3::ZERO; 4];
+        for (k, &i) in ids.iter().enumerate() {
+            s[k] = start[i as usize];
+            u[k] = end[i as usize] - start[i as usize];
+        }
+        (s, u)
+    };
+    let p = a.particles[0];
+    match (a.kind, b.kind) {
+        (Kind::Point(_), Kind::Triangle) => {
+            let ids = [p, b.particles[0], b.particles[1], b.particles[2]];
+            let (start, motion) = moving(&ids);
+            narrow::point_triangle(&Moving { start, motion }, ids, gap)
+        }
+        (Kind::Point(_), Kind::Segment) => {
+            let ids = [p, b.particles[0], b.particles[1]];
+            let (s, u) = moving(&ids);
+            let m = Moving {
+                start: [s[0], s[1], s[2]],
+                motion: [u[0], u[1], u[2]],
+            };
+            narrow::point_segment(&m, ids, gap)
+        }
+        (Kind::Point(_), Kind::Point(_)) => {
+            let ids = [p, b.particles[0]];
+            let (s, u) = moving(&ids);
+            let m = Moving {
+                start: [s[0], s[1]],
+                motion: [u[0], u[1]],
+            };
+            narrow::point_point(&m, ids, radius)
+        }
+        (Kind::Edge, Kind::Edge) => {
+            let ids = [
+                a.particles[0],
+                a.particles[1],
+                b.particles[0],
+                b.particles[1],
+            ];
+            let (start, motion) = moving(&ids);
+            narrow::edge_edge(&Moving { start, motion }, ids, gap)
+        }
+        _ => None,
+    }
+}
+
+/// The inelastic impulse of `hit`, with Coulomb friction `friction`: where
+/// its sides end the step closer than its separation along its normal,
+/// move them apart to it, each particle by its weight times its inverse
+/// mass (the sum of mass times move is zero: momentum is kept), and slow
+/// their relative tangential motion by up to `friction` times that.
+fn respond(
+    hit: &Hit,
+    start: &[Vec3],
+    position: &mut [Vec3],
+    inverse_mass: &[Real],
+    friction: Real,
+) {
+    let (mut gap, mut relative, mut share) = (0.0, Vec3::ZERO, 0.0);
+    for (&p, w) in hit.particles.iter().zip(hit.weights) {
+        let p = p as usize;
+        gap += w * hit.normal.dot(position[p]);
+        relative += w * (position[p] - start[p]);
+        share += w * w * inverse_mass[p];
+    }
+    if gap >= hit.separation || share <= 0.0 {
+        return;
+    }
+    let push = hit.separation - gap;
+    let tangential = relative - relative.dot(hit.normal) * hit.normal;
+    let slide = tangential.length();
+    let slowed = (friction * push).min(slide);
+    let change = push * hit.normal
+        - if slide > 0.0 {
+            slowed / slide * tangential
+        } else {
+            Vec3::ZERO
+        };
+    for (&p, w) in hit.particles.iter().zip(hit.weights) {
+        let p = p as usize;
+        if w != 0.0 {
+            position[p] += (w * inverse_mass[p] / share) * change;
+        }
+    }
+}

@@ -1,0 +1,77 @@
+//! The ccd stage: the guarantee behind the penalty contacts and the
+//! colliders ([`crate::contact::ccd`]), over each (sub)step's motion.
+
+use crate::colliders::Shape;
+use crate::contact::ccd::{sweep_colliders, CcdReport, Motion};
+use crate::Real;
+
+use super::World;
+
+impl World {
+    /// Whether this step's guarantee has anything to do (it is on, and
+    /// bodies may meet each other or themselves, or a sphere collider
+    /// may be passed through); where not, its buffer of start positions
+    /// is emptied, so the stage does nothing.
+    pub(super) fn mark_guarded(&mut self) -> bool {
+        let settings = &self.contacts.settings;
+        let bodies = settings.enabled && {
+            let colliding = self.bodies.iter().filter(|b| b.contact.collide).count();
+            colliding >= 2
+                || self
+                    .bodies
+                    .iter()
+                    .any(|b| b.contact.collide && b.contact.self_collision)
+        };
+        let spheres = self
+            .colliders
+            .iter()
+            .any(|c| matches!(c.shape_at(self.time), Shape::Sphere { .. }));
+        let guarded = settings.ccd && (bodies || spheres);
+        if !guarded {
+            self.ccd_start.clear();
+        }
+        guarded
+    }
+
+    /// The ccd stage at the end of a (sub)step of `dt` (s): no particle
+    /// passes through a sphere collider, then none through another body's
+    /// surface or its own where it collides with itself.
+    pub(super) fn guarantee(&mut self, dt: Real) -> CcdReport {
+        if self.ccd_start.len() != self.particles.len() {
+            return CcdReport::default();
+        }
+        let particles = &mut self.particles;
+        let stopped = sweep_colliders(
+            &self.colliders,
+            self.time,
+            dt,
+            &self.bodies,
+            &self.ccd_start,
+            &mut particles.position,
+            &mut particles.velocity,
+            &particles.inverse_mass,
+        );
+        let settings = self.contacts.settings;
+        let mut report = CcdReport {
+            impulses: stopped,
+            zones: 0,
+        };
+        if settings.enabled {
+            let motion = Motion {
+                start: &self.ccd_start,
+                position: &mut particles.position,
+                velocity: &mut particles.velocity,
+                inverse_mass: &particles.inverse_mass,
+            };
+            report = report.then(self.contacts.guarantee.resolve(
+                &self.bodies,
+                &self.rigid.list,
+                motion,
+                settings.thickness,
+                settings.friction,
+                dt,
+            ));
+        }
+        report
+    }
+}
