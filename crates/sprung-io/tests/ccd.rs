@@ -226,3 +226,86 @@ fn a_twisted_tube_does_not_pass_through_itself() {
     );
     assert_eq!(total.within(), 0, "{total:?}");
 }
+
+/// Two 2D gas rings: a small one (radius 5 cm) fired at `speed` (m/s) at
+/// a large one (30 cm) at rest; the most particles of one found inside
+/// the other's loop after any step (even–odd rule on the loop's
+/// segments, apart from the engine's own geometry).
+fn rings_2d(speed: f64, ccd: bool) -> usize {
+    let text = format!(
+        r#"[sim]
+dt = 2.5e-4
+integrator = "symplectic_euler"
+duration = 0.02
+gravity = [0.0, 0.0, 0.0]
+
+[contact]
+ccd = {ccd}
+
+[[body]]
+name = "small"
+ring = {{ particles = 16, radius = 0.05 }}
+mass = 0.01
+stiffness = 3000.0
+damping = 0.5
+translate = [-0.5, 0.0, 0.0]
+velocity = [{speed}, 0.0, 0.0]
+gas = {{ nrt = 5.0, ramp_time = 0.0 }}
+
+[[body]]
+name = "large"
+ring = {{ particles = 48, radius = 0.3 }}
+mass = 0.01
+stiffness = 3000.0
+damping = 0.5
+gas = {{ nrt = 40.0, ramp_time = 0.0 }}
+"#
+    );
+    let scene = parse_scene(&text, Path::new("rings.toml")).expect("loads");
+    let mut world = scene.world;
+    let inside = |world: &World, point: sprung::Vec3, loop_of: usize| {
+        let x = &world.particles.position;
+        world.bodies[loop_of]
+            .segments
+            .iter()
+            .filter(|&&[a, b]| {
+                let (a, b) = (x[a as usize], x[b as usize]);
+                (a.y > point.y) != (b.y > point.y)
+                    && point.x < a.x + (point.y - a.y) / (b.y - a.y) * (b.x - a.x)
+            })
+            .count()
+            % 2
+            == 1
+    };
+    let mut most = 0;
+    for _ in 0..scene.steps {
+        world.step(scene.dt).expect("a stable step");
+        let count = (0..2)
+            .map(|b| {
+                let other = 1 - b;
+                world.bodies[b]
+                    .particles
+                    .clone()
+                    .filter(|&i| inside(&world, world.particles.position[i], other))
+                    .count()
+            })
+            .sum();
+        most = most.max(count);
+    }
+    most
+}
+
+#[test]
+fn a_2d_ring_fired_at_another_never_gets_inside_it() {
+    // Claim: in 2D the point–segment guarantee keeps every particle of a
+    // ring fired at 20 or 150 m/s out of the other ring's loop after
+    // every step (zero, exactly); without it, at 150 m/s, the small ring
+    // ends up inside the large one.
+    for speed in [20.0, 150.0] {
+        assert_eq!(rings_2d(speed, true), 0, "at {speed} m/s");
+    }
+    assert!(
+        rings_2d(150.0, false) > 0,
+        "without the guarantee it tunnels"
+    );
+}
