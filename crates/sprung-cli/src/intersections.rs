@@ -39,12 +39,7 @@ pub fn run(dir: &Path) -> Result<(), CliError> {
             );
         }
         failing += usize::from(found.between() > 0);
-        total = Crossings {
-            points_between: total.points_between + found.points_between,
-            edges_between: total.edges_between + found.edges_between,
-            points_within: total.points_within + found.points_within,
-            edges_within: total.edges_within + found.edges_within,
-        };
+        total += found;
         before = Some(now);
     }
     println!(

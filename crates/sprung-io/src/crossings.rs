@@ -103,6 +103,16 @@ pub struct Crossings {
     pub edges_within: usize,
 }
 
+impl std::ops::AddAssign for Crossings {
+    /// Add another frame's counts, kind by kind.
+    fn add_assign(&mut self, other: Crossings) {
+        self.points_between += other.points_between;
+        self.edges_between += other.edges_between;
+        self.points_within += other.points_within;
+        self.edges_within += other.edges_within;
+    }
+}
+
 impl Crossings {
     /// Crossings between bodies.
     pub fn between(&self) -> usize {

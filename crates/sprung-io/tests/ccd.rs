@@ -43,25 +43,31 @@ pinned = [0, 29, 870, 899]
     )
 }
 
-/// Run the scene `text` for its steps, counting after each step what
-/// passed through what since the step before; also how far (m) the
-/// ball's lowest particle stayed above the cloth's, at the least, to tell
-/// a catch (the cloth wraps under the ball) from a miss.
+/// Step `world` by `dt` (s) `steps` times, counting after each step what
+/// passed through what since the step before, and calling `each` on the
+/// world after each step.
+fn counted(world: &mut World, dt: f64, steps: u64, mut each: impl FnMut(&World)) -> Crossings {
+    let mut before = Surfaces::of_world(world);
+    let mut total = Crossings::default();
+    for _ in 0..steps {
+        world.step(dt).expect("a stable step");
+        let now = Surfaces::of_world(world);
+        total += count(Some(&before), &now);
+        before = now;
+        each(world);
+    }
+    total
+}
+
+/// Run the scene `text` for its steps, counting crossings ([`counted`]);
+/// also how far (m) the ball's lowest particle stayed above the cloth's,
+/// at the least, to tell a catch (the cloth wraps under the ball) from a
+/// miss.
 fn crossings(text: &str) -> (Crossings, f64) {
     let scene = parse_scene(text, Path::new("ccd.toml")).expect("the scene loads");
     let mut world = scene.world;
-    let mut before = Surfaces::of_world(&world);
-    let mut total = Crossings::default();
     let mut lowest = f64::INFINITY;
-    for _ in 0..scene.steps {
-        world.step(scene.dt).expect("a stable step");
-        let now = Surfaces::of_world(&world);
-        let found = count(Some(&before), &now);
-        total.points_between += found.points_between;
-        total.edges_between += found.edges_between;
-        total.points_within += found.points_within;
-        total.edges_within += found.edges_within;
-        before = now;
+    let total = counted(&mut world, scene.dt, scene.steps, |world| {
         let low = |name: &str| {
             world.body(name).map_or(0.0, |b| {
                 world.particles.position[b.particles.clone()]
@@ -71,7 +77,7 @@ fn crossings(text: &str) -> (Crossings, f64) {
             })
         };
         lowest = lowest.min(low("ball") - low("cloth"));
-    }
+    });
     (total, lowest)
 }
 
@@ -207,19 +213,11 @@ fn a_twisted_tube_does_not_pass_through_itself() {
     let demo = sprung_io::demos::find("twist").expect("the demo");
     let scene = demo.load().expect("loads");
     let mut world = scene.world;
-    let mut before = Surfaces::of_world(&world);
-    let mut total = Crossings::default();
     let mut touching = 0;
-    let steps = (0.4 / scene.dt).round() as usize;
-    for _ in 0..steps {
-        world.step(scene.dt).expect("a stable step");
+    let steps = (0.4 / scene.dt).round() as u64;
+    let total = counted(&mut world, scene.dt, steps, |world| {
         touching = touching.max(world.active_contacts());
-        let now = Surfaces::of_world(&world);
-        let found = count(Some(&before), &now);
-        total.points_within += found.points_within;
-        total.edges_within += found.edges_within;
-        before = now;
-    }
+    });
     assert!(
         touching > 20,
         "the folds touched: {touching} contacts at most"

@@ -124,11 +124,19 @@ impl Guarantee {
         let gap = GAP * thickness;
         let radius = RADIUS * thickness;
         self.thickness = thickness;
+        // Most steps find nothing: the ends are kept only for a step that
+        // will move them.
+        self.find(start, position, gap, radius);
+        if self.hits.is_empty() {
+            return report;
+        }
         self.before.clear();
         self.before.extend_from_slice(position);
         let mut zoned = false;
         for round in 0.. {
-            self.find(start, position, gap, radius);
+            if round > 0 {
+                self.find(start, position, gap, radius);
+            }
             if round >= IMPULSE_ROUNDS {
                 if !zoned {
                     zoned = true;
@@ -193,7 +201,6 @@ impl Guarantee {
         position: &mut [Vec3],
         inverse_mass: &[Real],
     ) {
-        self.involved.clear();
         for body in rigid {
             let hit = self.hits.iter().any(|h| {
                 h.particles
