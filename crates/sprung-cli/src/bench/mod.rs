@@ -21,7 +21,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use sprung::{parallel, IntegratorKind, Real};
+use sprung::{parallel, IntegratorKind, Real, Stage};
 use sprung_io::export::AtomicFile;
 
 use crate::run::CliError;
@@ -126,6 +126,9 @@ struct Row {
     /// The mean number of candidate contact pairs between bodies over the
     /// timed steps (contact cases only): the contact stage's work.
     contact_pairs: Option<f64>,
+    /// The share of the timed steps spent in the guarantee's stage
+    /// (`ccd`; contact cases only, timed by the world's profile).
+    ccd_share: Option<f64>,
 }
 
 impl Row {
@@ -274,6 +277,8 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
         let mut allocated: Vec<usize> = Vec::with_capacity(steps as usize + 1024);
         let mut since_restart = 0u32;
         let mut pairs = 0usize;
+        let contact = case.group == Group::Contact;
+        world.set_profiling(contact);
         let longest = seconds.max(LONGEST_SECONDS);
         while taken == 0 || ((taken < steps || elapsed < seconds) && elapsed < longest) {
             let before = memory::allocated();
@@ -301,6 +306,7 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
                     // so the peak heap counts one world.
                     drop(world);
                     (world, _) = warmed_up(case)?;
+                    world.set_profiling(contact);
                 }
             }
         }
@@ -322,7 +328,8 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
             allocated_per_step: median(&mut allocated),
             one_thread: 0.0,
             reference: None,
-            contact_pairs: (case.group == Group::Contact).then(|| pairs as f64 / f64::from(taken)),
+            contact_pairs: contact.then(|| pairs as f64 / f64::from(taken)),
+            ccd_share: contact.then(|| world.profile().share(Stage::Ccd)),
         })
     })
 }
@@ -347,7 +354,7 @@ fn rate(value: Option<f64>) -> String {
 fn print_row(row: &Row, header: bool) {
     if header {
         println!(
-            "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10} {:>12} {:>12} {:>7} {:>9} {:>8} {:>8} {:>8} {:>9} {:>9}",
+            "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10} {:>12} {:>12} {:>7} {:>9} {:>8} {:>8} {:>8} {:>9} {:>9} {:>6}",
             "case",
             "integrator",
             "particles",
@@ -362,7 +369,8 @@ fn print_row(row: &Row, header: bool) {
             "run MB",
             "alloc/st",
             "×textbook",
-            "pairs/st"
+            "pairs/st",
+            "ccd %"
         );
     }
     let textbook = row.reference.map_or_else(
@@ -370,7 +378,7 @@ fn print_row(row: &Row, header: bool) {
         |r| format!("{:.2}", r / row.seconds_per_step),
     );
     println!(
-        "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10.4} {:>12} {:>12.3e} {:>7.2} {:>9.3} {:>8.1} {:>8.1} {:>8} {:>9} {:>9}",
+        "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10.4} {:>12} {:>12.3e} {:>7.2} {:>9.3} {:>8.1} {:>8.1} {:>8} {:>9} {:>9} {:>6}",
         row.name,
         row.integrator.name(),
         row.particles,
@@ -386,7 +394,9 @@ fn print_row(row: &Row, header: bool) {
         row.allocated_per_step,
         textbook,
         row.contact_pairs
-            .map_or_else(|| "–".into(), |p| format!("{p:.0}"))
+            .map_or_else(|| "–".into(), |p| format!("{p:.0}")),
+        row.ccd_share
+            .map_or_else(|| "–".into(), |s| format!("{:.1}", 100.0 * s))
     );
 }
 
@@ -396,13 +406,13 @@ fn csv(rows: &[Row]) -> String {
         "group,case,integrator,particles,springs,threads,dt,steps,ms_per_step,\
          spring_updates_per_s,particle_updates_per_s,speedup,simulated_s_per_s,\
          peak_bytes,stepping_bytes,bytes_allocated_per_step,textbook_ms_per_step,\
-         contact_pairs_per_step\n",
+         contact_pairs_per_step,ccd_share\n",
     );
     for row in rows {
         let optional = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:e}"));
         let _ = writeln!(
             text,
-            "{},{},{},{},{},{},{:e},{},{:e},{},{:e},{:e},{:e},{},{},{},{},{}",
+            "{},{},{},{},{},{},{:e},{},{:e},{},{:e},{:e},{:e},{},{},{},{},{},{}",
             row.group.name(),
             row.name,
             row.integrator.name(),
@@ -421,6 +431,7 @@ fn csv(rows: &[Row]) -> String {
             row.allocated_per_step,
             optional(row.reference.map(|r| r * 1e3)),
             optional(row.contact_pairs),
+            optional(row.ccd_share),
         );
     }
     text

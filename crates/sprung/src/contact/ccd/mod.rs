@@ -28,6 +28,7 @@
 
 mod broad;
 mod colliders;
+mod elements;
 mod narrow;
 mod zones;
 
@@ -36,7 +37,8 @@ pub(crate) use colliders::sweep_colliders;
 use crate::body::Body;
 use crate::constrain::RigidBody;
 use crate::{Real, Vec3};
-use broad::{Elements, Kind, Sweep};
+use broad::Sweep;
+use elements::{Element, Elements, Kind};
 use narrow::{Hit, Moving};
 use zones::Zones;
 
@@ -267,8 +269,8 @@ impl Guarantee {
 /// The narrow test of a pair of elements (`a` a point, or an edge against
 /// an edge).
 fn test(
-    a: &broad::Element,
-    b: &broad::Element,
+    a: &Element,
+    b: &Element,
     start: &[Vec3],
     end: &[Vec3],
     gap: Real,
