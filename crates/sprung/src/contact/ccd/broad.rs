@@ -31,10 +31,20 @@ use super::elements::{distance, Elements, Kind};
 use crate::contact::grid::Grid;
 use crate::{Real, Vec3};
 
-/// The least margin `h` of a body, in contact thicknesses: larger keeps
-/// pairs longer but finds more of them (a cloth folded on itself at the
-/// thickness keeps none of its layers' pairs at a quarter).
-pub const MARGIN: Real = 0.25;
+/// The least margin `h` of a body, in contact thicknesses, and the most:
+/// a larger one keeps pairs longer but finds more of them (a cloth folded
+/// on itself at the thickness keeps none of its layers' pairs at a
+/// quarter). A body starts at the least.
+pub const MARGIN: (Real, Real) = (0.25, 2.0);
+
+/// A body whose pairs held for fewer checks than this gets twice the
+/// margin when anchored again (up to the most, unless it is crowded);
+/// one whose pairs held for more than four times this, half of it.
+const CHECKS_HELD: u64 = 64;
+
+/// A body is crowded where its last search found more than this many
+/// pairs per element: its margin no longer grows.
+const CROWDED: usize = 4;
 
 /// Each body's margin is at least this many times the farthest any of its
 /// particles moved in the step it was anchored on, so that two bodies
@@ -50,6 +60,10 @@ const CELLS_PER_BOX: Real = 15.0;
 struct Moved {
     /// Its margin `h` (m).
     half: Real,
+    /// The check it was anchored on (a count of `prepare`s), and whether
+    /// its last search was crowded.
+    since: u64,
+    crowded: bool,
     /// When it was anchored (a count of anchorings).
     epoch: u64,
     /// Its particles' mean move since the anchor `T` (m), where the step
@@ -99,8 +113,9 @@ pub(super) struct Sweep {
     stray: Vec<Real>,
     /// Per body that collides (its span), how it moved.
     moved: Vec<Moved>,
-    /// Anchorings so far.
+    /// Anchorings so far, and checks (`prepare`s).
     clock: u64,
+    checks: u64,
     /// The pairs of bodies that may meet this step (first ≤ second).
     near: Vec<(u32, u32)>,
     /// The element pairs of each pair of bodies, by the pair of spans.
@@ -130,6 +145,7 @@ impl Sweep {
     ) {
         self.reach = (gap, 2.0 * radius);
         self.grow = (gap, radius);
+        self.checks += 1;
         let spans = elements.spans.len();
         self.again.clear();
         let fresh = self.generation != elements.generation || self.anchor.len() != start.len();
@@ -183,6 +199,10 @@ impl Sweep {
             let (a, b) = self.near[k];
             if !self.found.contains_key(&(a, b)) {
                 let pairs = self.search(elements, a as usize, b as usize);
+                for span in [a as usize, b as usize] {
+                    let count = elements.spans[span].len();
+                    self.moved[span].crowded = pairs.len() > CROWDED * count;
+                }
                 let epochs = (self.moved[a as usize].epoch, self.moved[b as usize].epoch);
                 self.found.insert((a, b), Found { epochs, pairs });
             }
@@ -300,8 +320,8 @@ impl Sweep {
     }
 
     /// Anchor `span` again where it starts the step from `start` to `end`
-    /// (m), with a margin from `thickness` (m) and its move, and measure it
-    /// again.
+    /// (m), with a margin from `thickness` (m), how long its last pairs held
+    /// and its move, and measure it again.
     fn anchor_again(
         &mut self,
         elements: &Elements,
@@ -316,10 +336,24 @@ impl Sweep {
             .map(|i| (end[i] - start[i]).length_squared())
             .fold(0.0, Real::max)
             .sqrt();
-        let half = (MARGIN * thickness).max(MARGIN_PER_MOVE * moved);
+        let (least, most) = (MARGIN.0 * thickness, MARGIN.1 * thickness);
+        let last = self.moved[span];
+        let held = self.checks - last.since;
+        let margin = if last.epoch == 0 {
+            least
+        } else if held < CHECKS_HELD && !last.crowded {
+            (2.0 * last.half).min(most)
+        } else if held > 4 * CHECKS_HELD {
+            0.5 * last.half
+        } else {
+            last.half
+        };
+        let half = margin.max(least).max(MARGIN_PER_MOVE * moved);
         self.clock += 1;
-        self.moved[span].half = half;
-        self.moved[span].epoch = self.clock;
+        let anchored = &mut self.moved[span];
+        anchored.half = half;
+        anchored.epoch = self.clock;
+        anchored.since = self.checks;
         let (gap, radius) = self.grow;
         let anchor = &self.anchor;
         for e in elements.spans[span].clone() {
