@@ -92,6 +92,8 @@ mod force;
 mod friction;
 mod links;
 mod pairs;
+#[cfg(test)]
+mod random;
 mod rigid_friction;
 mod state;
 

@@ -439,25 +439,8 @@ mod tests {
     use super::super::test;
     use super::*;
     use crate::build::{self, ClothSprings};
+    use crate::contact::random::Random;
     use crate::{IntegratorKind, World};
-
-    /// A generator of numbers in [-1, 1) (xorshift64*), for motions that
-    /// are the same on every run.
-    struct Noise(u64);
-
-    impl Noise {
-        fn next(&mut self) -> Real {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            let bits = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11;
-            bits as Real / (1u64 << 52) as Real - 1.0
-        }
-
-        fn vector(&mut self) -> Vec3 {
-            Vec3::new(self.next(), self.next(), self.next())
-        }
-    }
 
     /// Two cloths 10 cm square, one colliding with itself, 6 mm apart, and
     /// a rope of loose particles between them, 3 mm from each.
@@ -494,16 +477,16 @@ mod tests {
         assert!(elements.gather(bodies));
         let (thickness, gap, radius) = (0.01, 1e-3, 1e-3);
         let mut sweep = Sweep::default();
-        let mut noise = Noise(0x5EED);
+        let mut noise = Random(0x5EED);
         let mut start = world.particles.position.clone();
         let mut met = 0;
         for step in 0..120 {
             let mut end = start.clone();
             let jitter = [1e-4, 1e-3, 6e-3][step % 3];
             for body in bodies.iter() {
-                let shift = if step % 7 == 0 { 0.03 } else { 0.002 } * noise.vector();
+                let shift = noise.vector(if step % 7 == 0 { 0.03 } else { 0.002 });
                 for x in &mut end[body.particles.clone()] {
-                    *x += shift + jitter * noise.vector();
+                    *x += shift + noise.vector(jitter);
                 }
             }
             sweep.prepare(&elements, &start, &end, thickness, gap, radius);
@@ -542,12 +525,12 @@ mod tests {
         let mut elements = Elements::default();
         assert!(elements.gather(bodies));
         let mut sweep = Sweep::default();
-        let mut noise = Noise(7);
+        let mut noise = Random(7);
         let mut start = world.particles.position.clone();
         for _ in 0..200 {
             let end: Vec<Vec3> = start
                 .iter()
-                .map(|x| *x - 0.01 * Vec3::Z + 1e-6 * noise.vector())
+                .map(|x| *x - 0.01 * Vec3::Z + noise.vector(1e-6))
                 .collect();
             sweep.prepare(&elements, &start, &end, 0.01, 1e-5, 1e-3);
             sweep.overlaps(&elements, |a, b| {

@@ -4,23 +4,7 @@
 use super::*;
 use crate::contact::buckets::CLEARANCE_BUCKETS;
 use crate::contact::geometry::closest_between_segments;
-
-/// xorshift64*: numbers uniform in [-1, 1), the same on every run.
-struct Random(u64);
-
-impl Random {
-    fn symmetric(&mut self) -> Real {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        let bits = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11;
-        2.0 * (bits as Real / (1u64 << 53) as Real) - 1.0
-    }
-
-    fn vector(&mut self, scale: Real) -> Vec3 {
-        scale * Vec3::new(self.symmetric(), self.symmetric(), self.symmetric())
-    }
-}
+use crate::contact::random::Random;
 
 /// The touches of `pairs` at `position` with `allowance`.
 fn touches(pairs: &mut ContactPairs, position: &[Vec3], allowance: Real) -> Vec<Touch> {
