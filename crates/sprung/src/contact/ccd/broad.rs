@@ -461,20 +461,25 @@ mod tests {
         world
     }
 
+    /// The elements of `world`'s bodies, which can meet.
+    fn elements_of(world: &World) -> Elements {
+        let mut elements = Elements::default();
+        assert!(elements.gather(&world.bodies));
+        elements
+    }
+
     #[test]
     fn every_pair_that_meets_is_handed_on_however_the_bodies_move() {
-        // The three bodies moved at random:
-        // each body by a common shift of up to 3 cm a step and each
-        // particle by up to 0.1–6 mm, so they crumple, drift apart and
-        // through each other, and the anchors are left often. At every
+        // The three bodies moved at random: each body by a common shift
+        // of up to 3 cm a step and each particle by up to 0.1–6 mm, so
+        // they crumple, drift apart and through each other, and the anchors are left often. At every
         // step every pair of elements the narrow test finds meeting (by
         // testing them all) must be among those the broad phase hands on:
         // exact, as the broad phase only ever leaves out pairs it has
         // bounded apart.
         let world = three_bodies();
         let bodies = &world.bodies;
-        let mut elements = Elements::default();
-        assert!(elements.gather(bodies));
+        let elements = elements_of(&world);
         let (thickness, gap, radius) = (0.01, 1e-3, 1e-3);
         let mut sweep = Sweep::default();
         let mut noise = Random(0x5EED);
@@ -521,9 +526,7 @@ mod tests {
         // search per body), and no pair is handed on, as none comes
         // within 3 mm less the jitter of another.
         let world = three_bodies();
-        let bodies = &world.bodies;
-        let mut elements = Elements::default();
-        assert!(elements.gather(bodies));
+        let elements = elements_of(&world);
         let mut sweep = Sweep::default();
         let mut noise = Random(7);
         let mut start = world.particles.position.clone();
