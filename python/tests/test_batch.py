@@ -70,25 +70,9 @@ def test_the_gil_is_released_while_a_batch_steps(scenes):
     stop.set()
     counter.join()
     during = [t for t in ticks if start < t < end]
-    # The counter thread needs the GIL for each tick: it ran all along.
-    assert len(during) >= 0.3 * (end - start) / 0.002, (len(during), end - start)
-
-
-def test_two_large_worlds_run_in_parallel(scenes):
-    # On 2 threads, two equal worlds take about the time of one. Measured
-    # as the best of three tries against the serial loop in the same
-    # process, so a moment of load on the machine does not decide it.
-    ratios = []
-    for _ in range(3):
-        serial = [large(scenes), large(scenes)]
-        start = time.perf_counter()
-        for world in serial:
-            world.step(150)
-        serial_time = time.perf_counter() - start
-        batch = sprung.Batch([large(scenes), large(scenes)], threads=2)
-        start = time.perf_counter()
-        batch.step(150)
-        ratios.append((time.perf_counter() - start) / serial_time)
-        if ratios[-1] < 0.8:
-            break
-    assert min(ratios) < 0.8, ratios
+    # The counter thread needs the GIL for each tick. Held through the
+    # step (about 0.4 s), it would tick at most once inside it; released,
+    # it ticks every few milliseconds. Five ticks tell the two apart on
+    # a loaded machine too. What the second thread gains is a speed
+    # figure: python/benchmarks/overhead.py, never a timed test.
+    assert len(during) >= 5, (len(during), end - start)
