@@ -35,7 +35,7 @@ fn quick_bench_writes_every_group_on_one_and_two_threads_and_steps_allocate_noth
     };
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert!(rows.iter().all(|r| r.len() == header.len()), "ragged CSV");
-    for group in ["cloth", "integrators", "gas", "stiff", "contact"] {
+    for group in ["cloth", "integrators", "gas", "stiff", "contact", "give"] {
         for threads in ["1", "2"] {
             assert!(
                 rows.iter()

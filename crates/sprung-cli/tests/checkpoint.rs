@@ -124,6 +124,16 @@ fn implicit_solvers_resume_exactly() {
     assert_resumes_exactly(&stiff, &["--integrator", "implicit_euler"], 20, 5);
 }
 
+/// A run resumed after springs broke (the `tear` cloth torn at about step
+/// 250, the `burst` balloon at about 1,950) goes on with the same bits:
+/// the state holds the broken springs, and the surfaces open along them
+/// again when it is read.
+#[test]
+fn torn_and_burst_bodies_resume_exactly() {
+    assert_resumes_exactly(&scene("tear.toml"), &[], 700, 420);
+    assert_resumes_exactly(&scene("burst.toml"), &[], 2400, 2100);
+}
+
 /// Contact between bodies keeps the pairs of its last search for the
 /// steps after (while the margin covers the motion): a resumed run has them
 /// too, so it goes on with the same bits while bodies touch.

@@ -50,6 +50,7 @@ fn profile_names_every_stage_and_its_shares_add_up() {
             "collide",
             "friction",
             "constrain",
+            "give",
             "ccd",
             "guard",
             "stages",
@@ -63,14 +64,14 @@ fn profile_names_every_stage_and_its_shares_add_up() {
             .parse()
             .unwrap_or_else(|_| panic!("a number in {row:?}"))
     };
-    let stages = &rows[1..11];
+    let stages = &rows[1..12];
     for row in stages {
         let calls = number(row, 3);
         assert_eq!(calls, 2000.0, "{row:?}: one call a step");
     }
     let staged: f64 = stages.iter().map(|row| number(row, 1)).sum();
     let shares: f64 = stages.iter().map(|row| number(row, 2)).sum();
-    let wall = number(&rows[12], 1);
+    let wall = number(&rows[13], 1);
     assert!(wall > 0.0, "{stdout}");
     assert!(
         (staged / wall - 1.0).abs() <= 0.05,

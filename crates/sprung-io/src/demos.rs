@@ -147,6 +147,30 @@ pub const DEMOS: &[Demo] = &[
         every_integrator: false,
     },
     Demo {
+        name: "tear",
+        about: "a cloth joined to two heavy bars thrown apart: it stretches and tears",
+        text: include_str!("../../../scenes/tear.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "burst",
+        about: "a balloon pumped until its skin breaks: the gas escapes and it falls limp",
+        text: include_str!("../../../scenes/burst.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "dent",
+        about: "a soft can pressed by a ball: its springs yield and it stays dented",
+        text: include_str!("../../../scenes/dent.toml"),
+        every_integrator: false,
+    },
+    Demo {
+        name: "tethered",
+        about: "a gas ball tied by a join to a swinging rope",
+        text: include_str!("../../../scenes/tethered.toml"),
+        every_integrator: false,
+    },
+    Demo {
         name: "cloth",
         about: "a cloth hanging from two corners",
         text: include_str!("../../../scenes/cloth.toml"),

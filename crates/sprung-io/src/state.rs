@@ -82,7 +82,8 @@ pub enum StateFileError {
 
 /// A checksum of what a state depends on and the scene builds: particle
 /// masses and pins, springs (endpoints, stiffness, damping, rest lengths
-/// other than the muscles'), and the bodies' names and particle ranges.
+/// other than the muscles'; for springs that may yield or break, their
+/// break strain instead), and the bodies' names and particle ranges.
 pub fn fingerprint(world: &World) -> u32 {
     let mut hash = crc32fast::Hasher::new();
     let particles = &world.particles;
@@ -102,6 +103,13 @@ pub fn fingerprint(world: &World) -> u32 {
         let [a, b] = springs.endpoints(s);
         hash.update(&a.to_le_bytes());
         hash.update(&b.to_le_bytes());
+        if world.limits.can_give(s) {
+            // Its stiffness, damping (0 once broken) and rest length
+            // (moved by yielding) are the state's: its break strain is
+            // the scene's.
+            hash.update(&world.limits.break_strain(s).to_le_bytes());
+            continue;
+        }
         hash.update(&springs.stiffness[s].to_le_bytes());
         hash.update(&springs.damping[s].to_le_bytes());
         hash.update(&[u8::from(springs.one_sided[s])]);

@@ -57,7 +57,7 @@ pub fn draw(world: &World, view: &View, viewport: Rect, look: &Look) {
         }
     }
     let s = &world.springs;
-    for k in 0..s.len() {
+    for k in (0..s.len()).filter(|&k| !s.is_broken(k)) {
         let (a, b) = (s.first()[k] as usize, s.second()[k] as usize);
         let length = (world.particles.position[b] - world.particles.position[a]).length();
         let strain = ((length - s.rest_length[k]) / s.rest_length[k]) as f32;

@@ -83,6 +83,13 @@ impl Renderer3d {
             let (a, b) = (x[rods.first[r] as usize], x[rods.second[r] as usize]);
             draw_line_3d(a, b, palette::ROD);
         }
+        // Joins: rods above, springs here, in the rods' colour.
+        for j in (0..world.joins.len()).filter(|&j| !world.join_broken(j)) {
+            if let sprung::join::JoinLink::Spring(_) = world.joins[j].link {
+                let [a, b] = world.joins[j].particles.map(|i| x[i as usize]);
+                draw_line_3d(a, b, palette::ROD);
+            }
+        }
         if let Some(sphere) = poke {
             self.batch.spheres([sphere], 0.55, &light);
         }
@@ -95,7 +102,7 @@ impl Renderer3d {
 /// of the way towards the eye so that lines on a surface stay visible.
 fn springs(world: &World, x: &[Vec3], range: Range<usize>, (eye, lift): (Vec3, f32), full: f32) {
     let s = &world.springs;
-    for k in range {
+    for k in range.filter(|&k| !s.is_broken(k)) {
         let (a, b) = (x[s.first()[k] as usize], x[s.second()[k] as usize]);
         let rest = s.rest_length[k] as f32;
         let strain = ((b - a).length() - rest) / rest;

@@ -318,6 +318,40 @@ pub enum BuildError {
     /// Two bodies with the same name.
     #[error("a body named \"{0}\" already exists: body names must be unique")]
     DuplicateName(String),
+    /// A join's end names a body the world does not have.
+    #[error(
+        "join `{end}` names body \"{body}\", which the world does not have (add the bodies first)"
+    )]
+    JoinUnknownBody {
+        /// `a` or `b`.
+        end: &'static str,
+        /// The name given.
+        body: String,
+    },
+    /// A join's end names a particle its body does not have.
+    #[error("join `{end}` = [\"{body}\", {particle}]: particle index out of range (the body has {particles} particles)")]
+    JoinParticleOutOfRange {
+        /// `a` or `b`.
+        end: &'static str,
+        /// The body's name.
+        body: String,
+        /// The index given.
+        particle: usize,
+        /// The body's particles.
+        particles: usize,
+    },
+    /// A join whose ends are the same particle, or two pinned ones.
+    #[error("join: {0}")]
+    BadJoin(&'static str),
+    /// Limits that contradict each other: a yield strain at or above the
+    /// break strain.
+    #[error("`yield_strain` = {}: must be below `break_strain` = {} (a spring would break before it could yield)", Readable(*yield_strain), Readable(*break_strain))]
+    YieldAboveBreak {
+        /// The yield strain given.
+        yield_strain: Real,
+        /// The break strain given.
+        break_strain: Real,
+    },
 }
 
 /// The largest energy (J) one particle or spring may reach within the

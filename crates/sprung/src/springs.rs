@@ -35,6 +35,8 @@ pub struct Springs {
     pub damping: Vec<Real>,
     /// Whether each spring acts on its second particle only.
     pub one_sided: Vec<bool>,
+    /// Whether each spring has broken ([`Springs::break_spring`]).
+    broken: Vec<bool>,
     /// Which endpoints these are (see [`Springs::topology`]).
     topology: u64,
 }
@@ -68,6 +70,7 @@ impl Springs {
         self.stiffness.push(stiffness);
         self.damping.push(damping);
         self.one_sided.push(one_sided);
+        self.broken.push(false);
     }
 
     /// Index of the first (parent) particle of each spring.
@@ -90,6 +93,31 @@ impl Springs {
         self.first[s] = first;
         self.second[s] = second;
         self.topology = NEXT_TOPOLOGY.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Break spring `s` for good: its stiffness and damping go to zero and
+    /// it joins nothing from now on, so the springs get a new
+    /// [`Springs::topology`] (what is built from them, the thread
+    /// schedule, the implicit solvers' factor and the contact exclusions,
+    /// is built again). Breaking a broken spring changes nothing.
+    pub fn break_spring(&mut self, s: usize) {
+        if self.broken[s] {
+            return;
+        }
+        self.broken[s] = true;
+        self.stiffness[s] = 0.0;
+        self.damping[s] = 0.0;
+        self.topology = NEXT_TOPOLOGY.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Whether spring `s` has broken ([`Springs::break_spring`]).
+    pub fn is_broken(&self, s: usize) -> bool {
+        self.broken[s]
+    }
+
+    /// Whether each spring has broken, in spring order.
+    pub fn broken(&self) -> &[bool] {
+        &self.broken
     }
 
     /// A number that changes whenever the endpoints do, and that no other

@@ -55,6 +55,9 @@ pub enum Stage {
     Friction,
     /// Rods and rigid bodies put back on their lengths and shapes.
     Constrain,
+    /// Springs past their limits yield or break; faces along broken
+    /// springs open.
+    Give,
     /// The guarantee: continuous collision detection over the step's
     /// motion, impulses and impact zones, so that no crossing survives.
     Ccd,
@@ -63,7 +66,7 @@ pub enum Stage {
 }
 
 /// The number of stages.
-const STAGES: usize = 10;
+const STAGES: usize = 11;
 
 impl Stage {
     /// Every stage, in the order the step runs them.
@@ -76,6 +79,7 @@ impl Stage {
         Stage::Collide,
         Stage::Friction,
         Stage::Constrain,
+        Stage::Give,
         Stage::Ccd,
         Stage::Guard,
     ];
@@ -91,6 +95,7 @@ impl Stage {
             Stage::Collide => "collide",
             Stage::Friction => "friction",
             Stage::Constrain => "constrain",
+            Stage::Give => "give",
             Stage::Ccd => "ccd",
             Stage::Guard => "guard",
         }

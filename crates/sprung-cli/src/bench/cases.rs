@@ -3,7 +3,7 @@
 
 use sprung::build::{self, ClothSprings, SurfaceSprings};
 use sprung::integrate::Preconditioner;
-use sprung::{BodyData, Gas, IntegratorKind, Real, Vec3, World};
+use sprung::{BodyData, Gas, IntegratorKind, Real, StrainLimits, Vec3, World};
 
 use super::contacts::{self, balls_in_a_box, folded_cloth};
 use super::stiff_cloth::{stiff_cloth, FRAME};
@@ -22,6 +22,9 @@ pub enum Group {
     Stiff,
     /// Contact between bodies and self-collision.
     Contact,
+    /// The 256² cloth with springs that may break or yield, against the
+    /// same cloth without.
+    Give,
 }
 
 impl Group {
@@ -33,6 +36,7 @@ impl Group {
             Group::Gas => "gas",
             Group::Stiff => "stiff",
             Group::Contact => "contact",
+            Group::Give => "give",
         }
     }
 }
@@ -277,6 +281,46 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
                 dt: Step::HalfStable,
                 compare: false,
                 least_steps: if quick { 0 } else { CONTACT_STEPS },
+            });
+        }
+    }
+    if wanted(Group::Give) {
+        // Limits far above the hanging cloth's strains (a few %): the cost
+        // of watching them, none of giving.
+        let size = if quick { 32 } else { 256 };
+        let limits = [
+            ("", StrainLimits::default()),
+            (
+                " with break_strain",
+                StrainLimits {
+                    break_strain: Some(10.0),
+                    ..StrainLimits::default()
+                },
+            ),
+            (
+                " with yield_strain",
+                StrainLimits {
+                    yield_strain: Some(5.0),
+                    hardening: 0.1,
+                    ..StrainLimits::default()
+                },
+            ),
+        ];
+        for (label, limits) in limits {
+            cases.push(Case {
+                group: Group::Give,
+                name: format!("cloth {size}²{label}"),
+                integrator: IntegratorKind::SymplecticEuler,
+                build: Box::new(move || {
+                    let mut body = cloth_body(size)?;
+                    body.limits = limits;
+                    let mut world = World::new(IntegratorKind::SymplecticEuler);
+                    world.add_body("cloth", body).map_err(input)?;
+                    Ok(world)
+                }),
+                dt: Step::HalfStable,
+                compare: false,
+                least_steps: 0,
             });
         }
     }

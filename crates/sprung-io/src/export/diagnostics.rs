@@ -193,7 +193,8 @@ impl Diagnostics {
     /// starting row; the substeps and the last substep's length (s) where a
     /// step was split (`rk45`, `substeps`); the impulses and impact zones
     /// of the guarantee behind the contacts in the step that led here
-    /// (`ccd_impulses`, `ccd_zones`).
+    /// (`ccd_impulses`, `ccd_zones`); where springs can break or yield,
+    /// the springs and joins broken so far (`broken`).
     pub fn record(&mut self, world: &World) -> io::Result<()> {
         let optional = |value: Option<f64>| value.map(|v| Real(v).to_string()).unwrap_or_default();
         let report = world.last_step_report();
@@ -212,6 +213,9 @@ impl Diagnostics {
             ccd.impulses,
             ccd.zones,
         ));
+        if world.limits.enabled() {
+            row.push_str(&format!(",{}", world.limits.broken_count()));
+        }
         for index in 0..world.bodies.len() {
             let c = world.centroid(index).unwrap_or_default();
             let (volume, pressure) = (
@@ -352,6 +356,9 @@ fn header(world: &World, probes: &[usize]) -> String {
     header.push_str(
         ",contacts,solver_iterations,solver_residual,substeps,step_size,ccd_impulses,ccd_zones",
     );
+    if world.limits.enabled() {
+        header.push_str(",broken");
+    }
     for body in &world.bodies {
         for column in ["volume", "pressure", "cx", "cy", "cz"] {
             header.push_str(&format!(",{}.{column}", body.name));

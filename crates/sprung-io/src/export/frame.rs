@@ -5,9 +5,11 @@
 //!   (1 or 0) and `body` (the index of the particle's body, in the order
 //!   of the scene; the names are in the series file).
 //! - **Cells**, in this order: springs (lines, in the scene's order:
-//!   body by body, each body's as its scene lists them), rigid rods (lines), the
-//!   segments of 2D bodies (lines), the triangles of surfaces; cell data
-//!   `kind` ([`CellKind`]: 0 spring, 1 rod, 2 segment, 3 triangle),
+//!   body by body, each body's as its scene lists them, then the joins'
+//!   springs; broken ones left out), rigid rods (lines, the joins' after the
+//!   bodies'), the segments of 2D bodies (lines), the triangles of surfaces
+//!   (those along a broken spring gone); cell data `kind` ([`CellKind`]: 0
+//!   spring, 1 rod, 2 segment, 3 triangle, 4 join),
 //!   `body`, `rest_length` (m; 0 where the cell is neither a spring nor a
 //!   rod) and `strain` (`(d − L0) / L0`; for a segment or triangle, the
 //!   mean strain of the springs along its edges, 0 where it has none), so
@@ -30,6 +32,8 @@ pub enum CellKind {
     Segment = 2,
     /// A triangle of a surface, counter-clockwise seen from outside.
     Triangle = 3,
+    /// A join between bodies (a spring or a rod): a line of two particles.
+    Join = 4,
 }
 
 impl CellKind {
@@ -40,6 +44,7 @@ impl CellKind {
             CellKind::Rod,
             CellKind::Segment,
             CellKind::Triangle,
+            CellKind::Join,
         ]
         .into_iter()
         .find(|&k| k as u8 as Real == value)
@@ -89,17 +94,31 @@ impl Frame {
         let body_of = |particle: u32| point_body[particle as usize];
         // Strain by undirected edge, for the segments and triangles.
         let mut edge_strain: HashMap<(u32, u32), Real> = HashMap::new();
+        let (join_springs, join_rods) = world.join_links();
         for s in world.springs_in_scene_order() {
+            if springs.is_broken(s) {
+                continue;
+            }
             let [a, b] = springs.endpoints(s);
             let rest = springs.rest_length[s];
             let strain = (length(a, b) - rest) / rest;
-            edge_strain.insert((a.min(b), a.max(b)), strain);
-            frame.push(&[a, b], CellKind::Spring, body_of(a), rest, strain);
+            let kind = if join_springs.contains(&s) {
+                CellKind::Join
+            } else {
+                edge_strain.insert((a.min(b), a.max(b)), strain);
+                CellKind::Spring
+            };
+            frame.push(&[a, b], kind, body_of(a), rest, strain);
         }
         for r in 0..rods.len() {
             let (a, b, rest) = (rods.first[r], rods.second[r], rods.length[r]);
             let strain = (length(a, b) - rest) / rest;
-            frame.push(&[a, b], CellKind::Rod, body_of(a), rest, strain);
+            let kind = if join_rods.contains(&r) {
+                CellKind::Join
+            } else {
+                CellKind::Rod
+            };
+            frame.push(&[a, b], kind, body_of(a), rest, strain);
         }
         let mean_strain = |corners: &[u32]| {
             let n = corners.len();

@@ -28,8 +28,8 @@ use std::path::Path;
 
 use sprung::build::{self, ClothSprings, Internal, SurfaceSprings};
 use sprung::{
-    BodyContact, BodyData, BuildError, Gas, MuscleData, MuscleDrive, RodData, SpringData, Vec3,
-    VolumeModel,
+    BodyContact, BodyData, BuildError, Gas, MuscleData, MuscleDrive, RodData, SpringData,
+    StrainLimits, Vec3, VolumeModel,
 };
 
 use super::tables::{BodyTable, GasTable, PerSpring};
@@ -488,7 +488,8 @@ fn apply_springs(table: &BodyTable, data: &mut BodyData) -> Result<(), KeyError>
     Ok(())
 }
 
-/// Rods, muscles, `rigid` and `gravitating` (checked by `World::add_body`).
+/// Rods, muscles, `rigid`, `gravitating` and the strain limits (checked
+/// by `World::add_body`).
 fn apply_constraints(table: &BodyTable, data: &mut BodyData) -> Result<(), KeyError> {
     let pairs = table.rods.as_deref().unwrap_or_default();
     data.rods = pairs
@@ -529,6 +530,11 @@ fn apply_constraints(table: &BodyTable, data: &mut BodyData) -> Result<(), KeyEr
         .collect();
     data.rigid = table.rigid.unwrap_or(false);
     data.gravitating = table.gravitating.unwrap_or(true);
+    data.limits = StrainLimits {
+        break_strain: table.break_strain,
+        yield_strain: table.yield_strain,
+        hardening: table.hardening.unwrap_or(0.0),
+    };
     Ok(())
 }
 
@@ -631,6 +637,10 @@ pub(crate) fn key_of(error: &BuildError) -> &'static str {
         BuildError::MuscleSpringOutOfRange { .. } | BuildError::BadMuscle { .. } => "muscles",
         BuildError::RigidTooSmall | BuildError::RigidPinned | BuildError::RigidMuscles => "rigid",
         BuildError::BeyondLimit { field, .. } | BuildError::EnergyOverflow { field, .. } => field,
+        BuildError::JoinUnknownBody { end, .. }
+        | BuildError::JoinParticleOutOfRange { end, .. } => end,
+        BuildError::BadJoin(_) => "a",
+        BuildError::YieldAboveBreak { .. } => "yield_strain",
     }
 }
 

@@ -36,7 +36,7 @@ use std::path::{Path, PathBuf};
 
 use sprung::build;
 use sprung::forces::{gravitating_pairs, gravitating_particles, MAX_GRAVITATING};
-use sprung::{Real, Vec3, World};
+use sprung::{BuildError, JoinData, JoinEnd, Real, Vec3, World};
 
 use error::{line_of, line_of_entry, line_of_key};
 use interactions::{collider, contact, gravitation};
@@ -343,6 +343,35 @@ pub fn parse_scene_with(
     } else if let Some((span, name, ..)) = bodies.iter().find(|b| b.3.is_some()) {
         let message = format!("body \"{name}\": `gravitating` needs a `[gravitation]` table");
         return Err(at(span.clone(), "gravitating", message));
+    }
+    for (index, table) in file.join.iter().enumerate() {
+        let span = table.span();
+        let join = table.get_ref();
+        let data = JoinData {
+            a: JoinEnd::new(&join.a.0, join.a.1),
+            b: JoinEnd::new(&join.b.0, join.b.1),
+            stiffness: join.stiffness.unwrap_or(0.0),
+            damping: join.damping.unwrap_or(0.0),
+            rest_length: join.rest_length,
+            rod: join.rod.unwrap_or(false),
+            break_strain: join.break_strain,
+        };
+        if !data.rod && join.stiffness.is_none() {
+            let message =
+                format!("join {index}: a spring join needs `stiffness` (N/m), or `rod = true`");
+            return Err(at(span, "a", message));
+        }
+        world.add_join(data).map_err(|e| {
+            let key = match &e {
+                BuildError::OutOfRange { field, .. }
+                | BuildError::EnergyOverflow { field, .. }
+                | BuildError::BeyondLimit { field, .. } => field,
+                BuildError::BadJoin(m) if m.starts_with("`break_strain`") => "break_strain",
+                BuildError::BadJoin(m) if m.starts_with("its ends") => "rest_length",
+                _ => body::key_of(&e),
+            };
+            at(span.clone(), key, format!("join {index}: {e}"))
+        })?;
     }
     if let Some(table) = &file.contact {
         world.contacts.settings = contact(table.get_ref(), &world.settings)

@@ -25,6 +25,28 @@ pub(crate) struct SceneFile {
     pub contact: Option<Spanned<ContactTable>>,
     #[serde(default)]
     pub gravitation: Option<Spanned<GravitationTable>>,
+    #[serde(default)]
+    pub join: Vec<Spanned<JoinTable>>,
+}
+
+/// `[[join]]`: a spring or rod between particles of two bodies.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct JoinTable {
+    /// `["BODY", i]`: particle `i` of the body named `BODY`.
+    pub a: (String, usize),
+    /// The other end, as `a`.
+    pub b: (String, usize),
+    #[serde(default)]
+    pub stiffness: Option<f64>,
+    #[serde(default)]
+    pub damping: Option<f64>,
+    #[serde(default)]
+    pub rest_length: Option<f64>,
+    #[serde(default)]
+    pub rod: Option<bool>,
+    #[serde(default)]
+    pub break_strain: Option<f64>,
 }
 
 /// One `[[body]]` section of the file, parsed on its own.
@@ -248,6 +270,15 @@ pub(crate) struct BodyTable {
     /// Takes part in `[gravitation]` (default true).
     #[serde(default)]
     pub gravitating: Option<bool>,
+    /// Strain past which the body's springs break.
+    #[serde(default)]
+    pub break_strain: Option<f64>,
+    /// Strain past which the body's springs' rest lengths move.
+    #[serde(default)]
+    pub yield_strain: Option<f64>,
+    /// Linear hardening of the yield strain (default 0).
+    #[serde(default)]
+    pub hardening: Option<f64>,
     // Keys every body accepts.
     #[serde(default)]
     pub mass: Option<f64>,

@@ -52,8 +52,17 @@ impl Model {
         for body in world.bodies.iter().filter(|b| b.closed && b.is_planar()) {
             outlines.extend(chain_loops(&body.segments));
         }
-        // In the scene's order, as the frames list them.
-        let order = world.springs_in_scene_order();
+        // In the scene's order, as the frames list them: the whole
+        // springs of the bodies; the joins' springs are drawn as rods.
+        let (join_springs, _) = world.join_links();
+        let mut order = world.springs_in_scene_order();
+        order.retain(|&s| !springs.is_broken(s) && !join_springs.contains(&s));
+        let join_lines = (0..world.joins.len())
+            .filter(|&j| !world.join_broken(j))
+            .filter_map(|j| match world.joins[j].link {
+                sprung::join::JoinLink::Spring(_) => Some(world.joins[j].particles),
+                sprung::join::JoinLink::Rod(_) => None,
+            });
         let phase = muscle_phases(world);
         Model {
             springs: order.iter().map(|&s| springs.endpoints(s)).collect(),
@@ -69,6 +78,7 @@ impl Model {
                 .collect(),
             rods: (0..world.rods.len())
                 .map(|r| [world.rods.first[r], world.rods.second[r]])
+                .chain(join_lines)
                 .collect(),
             muscle_phase: if phase.is_empty() {
                 phase
@@ -99,7 +109,11 @@ impl Model {
         let mut outline_edges = Vec::new();
         for (cell, line) in frame.lines.iter().enumerate() {
             let single = line.len() == 2;
-            if single && (is(cell, CellKind::Rod) || rod.is_some_and(|r| r[cell] != 0.0)) {
+            if single
+                && (is(cell, CellKind::Rod)
+                    || is(cell, CellKind::Join)
+                    || rod.is_some_and(|r| r[cell] != 0.0))
+            {
                 rods.push([line[0], line[1]]);
                 continue;
             }

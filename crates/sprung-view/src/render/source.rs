@@ -39,7 +39,7 @@ pub struct Recording {
 /// last. A blow-up stops the run and is returned with the snapshots so far.
 pub fn record(world: &mut World, dt: Real, steps: u64, every: u64) -> Recording {
     let every = every.max(1);
-    let model = Arc::new(Model::of_world(world));
+    let mut model = Arc::new(Model::of_world(world));
     let mut snapshots = vec![Snapshot::of_world(world, &model)];
     for step in 1..=steps {
         if let Err(error) = world.step(dt) {
@@ -49,6 +49,11 @@ pub fn record(world: &mut World, dt: Real, steps: u64, every: u64) -> Recording 
             };
         }
         if step % every == 0 || step == steps {
+            // Springs that yield or break change the model (rest lengths,
+            // springs gone, faces opened): drawn afresh.
+            if world.limits.enabled() {
+                model = Arc::new(Model::of_world(world));
+            }
             snapshots.push(Snapshot::of_world(world, &model));
         }
     }

@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use crate::error::BuildError;
 use crate::gas::Gas;
+use crate::limits::StrainLimits;
 use crate::surface;
 use crate::{Real, Vec3};
 
@@ -183,6 +184,9 @@ pub struct BodyData {
     /// The body takes part in mutual gravitation when the world has a
     /// [`crate::forces::Gravitation`] force. Default true.
     pub gravitating: bool,
+    /// The strains past which the body's springs yield and break (scene
+    /// keys `yield_strain`, `break_strain`, `hardening`). Default: never.
+    pub limits: StrainLimits,
 }
 
 impl Default for BodyData {
@@ -201,6 +205,7 @@ impl Default for BodyData {
             muscles: Vec::new(),
             rigid: false,
             gravitating: true,
+            limits: StrainLimits::default(),
         }
     }
 }

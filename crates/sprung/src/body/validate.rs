@@ -42,6 +42,7 @@ impl BodyData {
         self.validate_gas()?;
         self.validate_rods(count)?;
         self.validate_muscles()?;
+        self.limits.validate()?;
         if self.rigid && count < 2 {
             return Err(BuildError::RigidTooSmall);
         }

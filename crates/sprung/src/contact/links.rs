@@ -183,7 +183,7 @@ impl Graph {
         let ends = || {
             body.springs
                 .clone()
-                .filter(move |&s| inside(first[s]) && inside(second[s]))
+                .filter(move |&s| inside(first[s]) && inside(second[s]) && !springs.is_broken(s))
                 // Lengths that are not positive (or not numbers) count as
                 // zero, so the search never goes round a shortening loop.
                 .map(move |s| {
@@ -284,6 +284,36 @@ mod tests {
         let mut world = World::new(IntegratorKind::SymplecticEuler);
         world.add_body("cloth", cloth).unwrap();
         world
+    }
+
+    #[test]
+    fn a_cloth_cut_in_two_links_no_particle_across_the_cut() {
+        // 11 × 11 particles 0.1 m apart, cut between columns 4 and 5 by
+        // breaking every spring across: particles on either side of the
+        // cut were linked (joined by a spring, or near along them) and are
+        // not any more, so the pieces collide; those on one side still are.
+        let mut world = cloth(11);
+        let n = world.particles.len();
+        let mut links = Links::default();
+        links.build(&world.bodies, &world.springs, n, 0.01);
+        let column = |p: u32| p % 11;
+        assert!(links.linked(4, 5) && links.linked(15, 5));
+        let across: Vec<usize> = (0..world.springs.len())
+            .filter(|&s| {
+                let [a, b] = world.springs.endpoints(s);
+                column(a).min(column(b)) <= 4 && column(a).max(column(b)) >= 5
+            })
+            .collect();
+        across.iter().for_each(|&s| world.springs.break_spring(s));
+        links.build(&world.bodies, &world.springs, n, 0.01);
+        for a in 0..n as u32 {
+            for b in 0..n as u32 {
+                if a != b && (column(a) <= 4) != (column(b) <= 4) {
+                    assert!(!links.linked(a, b), "{a} and {b} across the cut");
+                }
+            }
+        }
+        assert!(links.linked(4, 3) && links.linked(5, 6));
     }
 
     #[test]

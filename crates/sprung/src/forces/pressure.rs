@@ -93,7 +93,7 @@ impl Force for GasPressure {
             }
             if !on_its_own(body) {
                 left.store(true, Ordering::Relaxed);
-            } else if let Some(pressure) = pressure(body, x, time) {
+            } else if let Some(pressure) = pressure(body, x, time).filter(|&p| p != 0.0) {
                 add_volume_gradient(own_surface(body), x, pressure, own);
             }
         });
@@ -104,7 +104,7 @@ impl Force for GasPressure {
             if body.gas.is_none() || (apart && on_its_own(body)) {
                 continue;
             }
-            if let Some(pressure) = pressure(body, x, time) {
+            if let Some(pressure) = pressure(body, x, time).filter(|&p| p != 0.0) {
                 let surface = self.surfaces.surface(index, body, x.len());
                 add_volume_gradient(surface, x, pressure, force);
             }
@@ -190,9 +190,13 @@ impl Force for GasPressure {
 
 /// Pressure `nRT / V` of `body`'s gas at `position` and `time` (Pa, or N/m
 /// in 2D); `None` without a gas or when the volume is not positive (the
-/// body has turned inside out: no pressure is applied).
+/// body has turned inside out: no pressure is applied); 0 once the body's
+/// surface has opened (a spring along it broke: the gas has escaped).
 pub fn pressure(body: &Body, position: &[Vec3], time: Real) -> Option<Real> {
     let gas = body.gas.as_ref()?;
+    if !body.closed {
+        return Some(0.0);
+    }
     let volume = gas.volume_model.volume(body, position);
     (volume > 0.0).then(|| gas.nrt_at(time) / volume)
 }

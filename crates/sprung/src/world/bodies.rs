@@ -77,6 +77,8 @@ impl World {
                 s.one_sided,
             );
         }
+        self.limits
+            .set(first_spring..self.springs.len(), data.limits);
         let mut body = Body {
             name: name.to_string(),
             particles: offset..self.particles.len(),

@@ -21,8 +21,12 @@
 //! 7. **constrain** ([`crate::constrain`]): rigid rods and rigid bodies
 //!    put back on their lengths and shapes, velocities with them, so they
 //!    hold exactly at the end of every step;
-//! 8. **guard**: a non-finite or runaway state stops the run with
-//!    [`StepError::BlowUp`](crate::StepError::BlowUp).
+//! 8. **give** ([`crate::limits`]): springs past their yield strain take a
+//!    new rest length, those past their break strain break, and the faces
+//!    along a broken spring open;
+//! 9. **ccd**: the guarantee, so that no crossing survives the step;
+//! 10. **guard**: a non-finite or runaway state stops the run with
+//!     [`StepError::BlowUp`](crate::StepError::BlowUp).
 //!
 //! [`Stage`]: crate::Stage
 
@@ -33,6 +37,8 @@ use crate::contact::ccd::CcdReport;
 use crate::contact::{BodyContacts, Contacts};
 use crate::forces::{AirDrag, ForceList, GasPressure, Gravity, SpringForce, StiffnessBounds};
 use crate::integrate::{Integrator, IntegratorKind, SolverSettings, StepReport};
+use crate::join::Join;
+use crate::limits::SpringLimits;
 use crate::parallel;
 use crate::particles::Particles;
 use crate::springs::Springs;
@@ -41,12 +47,14 @@ use crate::{Real, Vec3};
 
 mod bodies;
 mod dynamics;
+mod give;
 mod guarantee;
 mod observe;
 mod state;
 mod step;
 
 pub use dynamics::Dynamics;
+pub use observe::PLASTIC;
 
 /// The approach speed (m/s) below which a rigid body's contact with a
 /// collider rests instead of bouncing (engines use such a threshold:
@@ -162,6 +170,10 @@ pub struct World {
     pub muscles: Muscles,
     /// Rigid bodies.
     pub rigid: RigidBodies,
+    /// Joins between bodies, in the order added ([`World::add_join`]).
+    pub joins: Vec<Join>,
+    /// The strains past which springs yield and break, and what they did.
+    pub limits: SpringLimits,
     /// Each body's index by name (names are unique).
     names: std::collections::HashMap<String, usize>,
     /// Positions at the start of the (sub)step, for the rods' directions.
@@ -231,6 +243,8 @@ impl World {
             rods: Rods::default(),
             muscles: Muscles::default(),
             rigid: RigidBodies::default(),
+            joins: Vec::new(),
+            limits: SpringLimits::default(),
             names: std::collections::HashMap::new(),
             step_start: Vec::new(),
             rod_scratch: Vec::new(),

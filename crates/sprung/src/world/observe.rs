@@ -46,12 +46,16 @@ impl World {
         let contacts = self.contacts_now();
         self.forces
             .add_energy(&self.context_with(&contacts), &mut energies);
+        if self.limits.enabled() {
+            *energies.term_mut(PLASTIC) = self.limits.plastic_work();
+        }
         energies
     }
 
     /// The names of the potential terms of [`World::energies`], in order:
     /// the standard ones ([`measure::STANDARD_TERMS`]), then those the
-    /// forces in the list give.
+    /// forces in the list give, then `plastic` where springs can yield or
+    /// break (the energy they took out, [`crate::limits`]).
     ///
     /// ```
     /// use sprung::measure::STANDARD_TERMS;
@@ -62,7 +66,11 @@ impl World {
     /// assert_eq!(STANDARD_TERMS, ["spring", "gravity", "gas", "contact", "gravitation"]);
     /// ```
     pub fn energy_names(&self) -> Vec<&'static str> {
-        self.forces.energy_names()
+        let mut names = self.forces.energy_names();
+        if self.limits.enabled() {
+            names.push(PLASTIC);
+        }
+        names
     }
 
     /// Number of contact pairs between bodies closer than the contact
@@ -296,3 +304,8 @@ impl World {
         bounds.stable_time_step()
     }
 }
+
+/// The energy term of the work taken out by springs that yield and break
+/// (J), summed since the start: with it the energy balance of a run whose
+/// springs give still closes.
+pub const PLASTIC: &str = "plastic";

@@ -78,6 +78,7 @@ impl World {
         state.integrator = self.integrator.kind().name().to_string();
         self.integrator.save_history(&mut state);
         self.contacts.save_state(&mut state);
+        self.save_limits(&mut state);
         state
     }
 
@@ -135,12 +136,16 @@ impl World {
         let (solver, rods) = (stats("solver_stats")?, stats("constraint_stats")?);
         let mut contacts = self.contacts.clone();
         contacts.restore_state(state, &self.bodies, n)?;
+        let limits = self.check_limits_state(state)?;
         self.integrator = integrator;
         self.contacts = contacts;
         self.steps = steps;
         (self.time, self.time_compensation) = (time[0], time[1]);
         self.particles.position = position;
         self.particles.velocity = velocity;
+        if let Some(limits) = limits {
+            self.restore_limits(limits);
+        }
         for (muscle, &length) in self.muscles.list.iter().zip(rest_length) {
             self.springs.rest_length[muscle.spring] = length;
         }

@@ -89,6 +89,7 @@ impl World {
             self.stage(Stage::Collide, World::collide);
             self.stage(Stage::Friction, |w| w.friction(h));
             self.stage(Stage::Constrain, |w| w.constrain(h));
+            self.stage(Stage::Give, World::give);
             ccd = ccd.then(self.stage(Stage::Ccd, |w| w.guarantee(h)));
         }
         self.last_ccd = ccd;

@@ -1,0 +1,286 @@
+//! Springs that give way (docs/physics.md §11): past its yield strain a
+//! spring's rest length moves (plasticity), past its break strain it
+//! breaks for good.
+//!
+//! The strain of a spring of rest length `L0` at length `L` is
+//! `ε = (L − L0) / L0`. At the end of each (sub)step, in spring order:
+//!
+//! - `ε > B` (the break strain): the spring breaks
+//!   ([`Springs::break_spring`]); the energy it held, `½ k (L − L0)²`,
+//!   leaves with it;
+//! - else `ε > Y` (the yield strain now): the rest length moves to
+//!   `L / (1 + Y)`, so the strain stays on the yield limit; `ε < −Y` (for
+//!   `Y < 1`) moves it to `L / (1 − Y)`. The spring's potential energy drops
+//!   by `½ k [(L − L0)² − (L − L0')²] ≥ 0`. With a hardening `H`, the yield
+//!   strain then grows by `H |L0' − L0| / L0`.
+//!
+//! The energy taken out both ways is summed in [`SpringLimits::plastic_work`]
+//! (the `plastic` energy column), so the energy balance of a run still
+//! closes. Springs with neither limit cost nothing: the stage walks only
+//! the ranges of springs that have one.
+
+use std::ops::Range;
+
+use crate::error::BuildError;
+use crate::parallel;
+use crate::springs::Springs;
+use crate::{Real, Vec3};
+
+/// How a body's (or a join's) springs give way: the scene keys
+/// `break_strain`, `yield_strain` and `hardening`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StrainLimits {
+    /// Strain `(L − L0) / L0` past which a spring breaks (dimensionless,
+    /// positive); `None`: never.
+    pub break_strain: Option<Real>,
+    /// Strain (in tension or compression) past which a spring's rest
+    /// length moves (dimensionless, positive, below `break_strain`);
+    /// `None`: never.
+    pub yield_strain: Option<Real>,
+    /// Linear hardening `H` (dimensionless, non-negative): each yield
+    /// raises the spring's yield strain by `H` times the relative move of
+    /// its rest length. Default 0.
+    pub hardening: Real,
+}
+
+impl StrainLimits {
+    /// Whether a spring with these limits can give at all.
+    pub fn any(&self) -> bool {
+        self.break_strain.is_some() || self.yield_strain.is_some()
+    }
+
+    /// Refuse a strain that is not positive and finite, a negative or
+    /// non-finite hardening, and a yield strain at or above the break
+    /// strain.
+    ///
+    /// ```
+    /// use sprung::limits::StrainLimits;
+    /// use sprung::BuildError;
+    ///
+    /// let limits = StrainLimits { break_strain: Some(0.2), yield_strain: Some(0.3), hardening: 0.0 };
+    /// assert!(matches!(limits.validate(), Err(BuildError::YieldAboveBreak { .. })));
+    /// let limits = StrainLimits { break_strain: Some(f64::NAN), ..StrainLimits::default() };
+    /// assert!(limits.validate().unwrap_err().to_string().starts_with("`break_strain` = NaN"));
+    /// ```
+    pub fn validate(&self) -> Result<(), BuildError> {
+        let positive = |field, value: Option<Real>| match value {
+            Some(value) if !(value.is_finite() && value > 0.0) => Err(BuildError::OutOfRange {
+                field,
+                value,
+                reason: "a strain (L - L0) / L0 must be positive and finite",
+            }),
+            _ => Ok(()),
+        };
+        positive("break_strain", self.break_strain)?;
+        positive("yield_strain", self.yield_strain)?;
+        if !(self.hardening.is_finite() && self.hardening >= 0.0) {
+            return Err(BuildError::OutOfRange {
+                field: "hardening",
+                value: self.hardening,
+                reason: "must be non-negative and finite",
+            });
+        }
+        if let (Some(break_strain), Some(yield_strain)) = (self.break_strain, self.yield_strain) {
+            if yield_strain >= break_strain {
+                return Err(BuildError::YieldAboveBreak {
+                    yield_strain,
+                    break_strain,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What the springs of a world may do past their limits, and what they
+/// have done: per spring its break strain, yield strain (grown by
+/// hardening) and hardening; the count of springs broken and the work
+/// taken out.
+#[derive(Debug, Clone, Default)]
+pub struct SpringLimits {
+    /// Per spring, its break strain (∞: never). Springs past the end have
+    /// none.
+    break_strain: Vec<Real>,
+    /// Per spring, its yield strain now (∞: never).
+    yield_strain: Vec<Real>,
+    /// Per spring, its hardening.
+    hardening: Vec<Real>,
+    /// The ranges of springs with a limit, in order, not overlapping.
+    watched: Vec<Range<usize>>,
+    /// Springs broken so far (the `broken` column).
+    broken: u64,
+    /// Energy taken out by yielding and breaking so far (J).
+    plastic_work: Real,
+    /// Scratch: the springs past a limit, per chunk.
+    found: Vec<Vec<u32>>,
+}
+
+/// What one pass of [`SpringLimits::give`] did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Given {
+    /// The springs that broke, in order.
+    pub broken: Vec<usize>,
+    /// How many springs yielded.
+    pub yielded: usize,
+}
+
+impl SpringLimits {
+    /// Give springs `range` the limits `limits` (from a body or a join).
+    pub fn set(&mut self, range: Range<usize>, limits: StrainLimits) {
+        if !limits.any() || range.is_empty() {
+            return;
+        }
+        if self.break_strain.len() < range.end {
+            self.break_strain.resize(range.end, Real::INFINITY);
+            self.yield_strain.resize(range.end, Real::INFINITY);
+            self.hardening.resize(range.end, 0.0);
+        }
+        self.break_strain[range.clone()].fill(limits.break_strain.unwrap_or(Real::INFINITY));
+        self.yield_strain[range.clone()].fill(limits.yield_strain.unwrap_or(Real::INFINITY));
+        self.hardening[range.clone()].fill(limits.hardening);
+        match self.watched.last_mut() {
+            Some(last) if last.end == range.start => last.end = range.end,
+            _ => self.watched.push(range),
+        }
+        self.watched.sort_by_key(|r| r.start);
+    }
+
+    /// Whether any spring has a limit (the `broken` and `plastic` columns
+    /// are written then).
+    pub fn enabled(&self) -> bool {
+        !self.watched.is_empty()
+    }
+
+    /// Springs broken so far.
+    pub fn broken_count(&self) -> u64 {
+        self.broken
+    }
+
+    /// Energy taken out by yielding and breaking so far (J).
+    pub fn plastic_work(&self) -> Real {
+        self.plastic_work
+    }
+
+    /// Whether spring `s` has a limit (may yield or break): its stiffness,
+    /// damping and rest length may change as it runs.
+    pub fn can_give(&self, s: usize) -> bool {
+        self.break_strain(s).is_finite() || self.yield_strain(s).is_finite()
+    }
+
+    /// Spring `s`'s yield strain now (∞ for none).
+    pub fn yield_strain(&self, s: usize) -> Real {
+        self.yield_strain.get(s).copied().unwrap_or(Real::INFINITY)
+    }
+
+    /// Spring `s`'s break strain (∞ for none).
+    pub fn break_strain(&self, s: usize) -> Real {
+        self.break_strain.get(s).copied().unwrap_or(Real::INFINITY)
+    }
+
+    /// Yield and break the springs past their limits at `position`, in
+    /// spring order (the search runs in parallel chunks, their findings
+    /// taken in order: the same on any number of threads).
+    pub fn give(&mut self, springs: &mut Springs, position: &[Vec3]) -> Given {
+        let mut found = std::mem::take(&mut self.found);
+        let mut given = Given::default();
+        for w in 0..self.watched.len() {
+            let range = self.watched[w].start..self.watched[w].end.min(springs.len());
+            let this = &*self;
+            let springs_now = &*springs;
+            parallel::collect_chunks(range.len(), parallel::CHUNK, &mut found, |chunk, out| {
+                let chunk = range.start + chunk.start..range.start + chunk.end;
+                this.past_limits(springs_now, position, chunk, out);
+            });
+            for &s in found.iter().flatten() {
+                self.give_one(springs, position, s as usize, &mut given);
+            }
+        }
+        self.found = found;
+        given
+    }
+
+    /// Push the springs of `chunk` past a limit at `position` onto `out`:
+    /// `L² > (L0 (1 + min(B, Y)))²` or `L² < (L0 (1 − Y))²`, without a
+    /// square root.
+    fn past_limits(
+        &self,
+        springs: &Springs,
+        position: &[Vec3],
+        chunk: Range<usize>,
+        out: &mut Vec<u32>,
+    ) {
+        let (first, second) = (springs.first(), springs.second());
+        let broken = springs.broken();
+        for s in chunk {
+            if broken[s] {
+                continue;
+            }
+            let d = position[second[s] as usize] - position[first[s] as usize];
+            let length_squared = d.length_squared();
+            let rest = springs.rest_length[s];
+            let yield_strain = self.yield_strain[s];
+            let longest = rest * (1.0 + self.break_strain[s].min(yield_strain));
+            let shortest = rest * (1.0 - yield_strain).max(0.0);
+            if length_squared > longest * longest || length_squared < shortest * shortest {
+                out.push(s as u32);
+            }
+        }
+    }
+
+    /// Break or yield spring `s`, found past a limit.
+    fn give_one(&mut self, springs: &mut Springs, position: &[Vec3], s: usize, given: &mut Given) {
+        let [a, b] = springs.endpoints(s);
+        let length = position[a as usize].distance(position[b as usize]);
+        let rest = springs.rest_length[s];
+        let stiffness = springs.stiffness[s];
+        let strain = (length - rest) / rest;
+        let energy = |rest: Real| 0.5 * stiffness * (length - rest) * (length - rest);
+        if strain > self.break_strain[s] {
+            self.plastic_work += energy(rest);
+            springs.break_spring(s);
+            self.broken += 1;
+            given.broken.push(s);
+            return;
+        }
+        let yield_strain = self.yield_strain[s];
+        let moved = if strain > yield_strain {
+            length / (1.0 + yield_strain)
+        } else if strain < -yield_strain && yield_strain < 1.0 {
+            length / (1.0 - yield_strain)
+        } else {
+            return;
+        };
+        self.plastic_work += energy(rest) - energy(moved);
+        springs.rest_length[s] = moved;
+        self.yield_strain[s] += self.hardening[s] * (moved - rest).abs() / rest;
+        given.yielded += 1;
+    }
+
+    /// Add `energy` (J) to the work taken out (a burst body's gas).
+    pub(crate) fn add_work(&mut self, energy: Real) {
+        self.plastic_work += energy;
+    }
+
+    /// Set the count of broken springs and the work taken out (J), from a
+    /// saved state.
+    pub(crate) fn restore_totals(&mut self, broken: u64, plastic_work: Real) {
+        self.broken = broken;
+        self.plastic_work = plastic_work;
+    }
+
+    /// Every spring's yield strain now, for a saved state (empty without
+    /// limits).
+    pub(crate) fn yield_strains(&self) -> &[Real] {
+        &self.yield_strain
+    }
+
+    /// Set every spring's yield strain from a saved state; false when the
+    /// count disagrees.
+    pub(crate) fn restore_yield_strains(&mut self, values: &[Real]) -> bool {
+        if values.len() != self.yield_strain.len() {
+            return false;
+        }
+        self.yield_strain.copy_from_slice(values);
+        true
+    }
+}
