@@ -105,6 +105,11 @@ pub struct SpringLimits {
     yield_strain: Vec<Real>,
     /// Per spring, its hardening.
     hardening: Vec<Real>,
+    /// Per spring, the squared lengths (m²) outside which it may give,
+    /// `[(L0 (1 + min(B, Y)))², (L0 (1 - Y))²]`, rounded outward to `f32`:
+    /// the search reads 8 bytes a spring besides its ends, and checks the
+    /// few it finds exactly. `[∞, 0]` for none (or broken).
+    trigger: Vec<[f32; 2]>,
     /// The ranges of springs with a limit, in order, not overlapping.
     watched: Vec<Range<usize>>,
     /// Springs broken so far (the `broken` column).
@@ -125,8 +130,9 @@ pub struct Given {
 }
 
 impl SpringLimits {
-    /// Give springs `range` the limits `limits` (from a body or a join).
-    pub fn set(&mut self, range: Range<usize>, limits: StrainLimits) {
+    /// Give springs `range` of `springs` the limits `limits` (from a body
+    /// or a join).
+    pub fn set(&mut self, springs: &Springs, range: Range<usize>, limits: StrainLimits) {
         if !limits.any() || range.is_empty() {
             return;
         }
@@ -134,15 +140,43 @@ impl SpringLimits {
             self.break_strain.resize(range.end, Real::INFINITY);
             self.yield_strain.resize(range.end, Real::INFINITY);
             self.hardening.resize(range.end, 0.0);
+            self.trigger.resize(range.end, NEVER);
         }
         self.break_strain[range.clone()].fill(limits.break_strain.unwrap_or(Real::INFINITY));
         self.yield_strain[range.clone()].fill(limits.yield_strain.unwrap_or(Real::INFINITY));
         self.hardening[range.clone()].fill(limits.hardening);
         match self.watched.last_mut() {
             Some(last) if last.end == range.start => last.end = range.end,
-            _ => self.watched.push(range),
+            _ => self.watched.push(range.clone()),
         }
         self.watched.sort_by_key(|r| r.start);
+        self.refresh(springs, range);
+    }
+
+    /// Compute again the search's bounds of springs `range` from their
+    /// rest lengths now: after they changed other than by yielding (a
+    /// muscle's drive, a restored state, a spring added). The world calls
+    /// it for every new spring and for its muscles' springs every step; a
+    /// program that sets the rest lengths of springs with limits by hand
+    /// calls it for them.
+    pub fn refresh(&mut self, springs: &Springs, range: Range<usize>) {
+        let end = range.end.min(self.trigger.len()).min(springs.len());
+        for s in range.start..end {
+            self.trigger[s] = self.bounds(springs, s);
+        }
+    }
+
+    /// Spring `s`'s squared lengths outside which it may give, rounded
+    /// outward to `f32` (up above, down below).
+    fn bounds(&self, springs: &Springs, s: usize) -> [f32; 2] {
+        if springs.is_broken(s) {
+            return NEVER;
+        }
+        let rest = springs.rest_length[s];
+        let yield_strain = self.yield_strain[s];
+        let longest = rest * (1.0 + self.break_strain[s].min(yield_strain));
+        let shortest = rest * (1.0 - yield_strain).max(0.0);
+        [above(longest * longest), below(shortest * shortest)]
     }
 
     /// Whether any spring has a limit (the `broken` and `plastic` columns
@@ -209,26 +243,36 @@ impl SpringLimits {
         chunk: Range<usize>,
         out: &mut Vec<u32>,
     ) {
-        let (first, second) = (springs.first(), springs.second());
-        let broken = springs.broken();
-        for s in chunk {
-            if broken[s] {
-                continue;
-            }
-            let d = position[second[s] as usize] - position[first[s] as usize];
-            let length_squared = d.length_squared();
-            let rest = springs.rest_length[s];
-            let yield_strain = self.yield_strain[s];
-            let longest = rest * (1.0 + self.break_strain[s].min(yield_strain));
-            let shortest = rest * (1.0 - yield_strain).max(0.0);
-            if length_squared > longest * longest || length_squared < shortest * shortest {
-                out.push(s as u32);
+        let first = &springs.first()[chunk.clone()];
+        let second = &springs.second()[chunk.clone()];
+        let trigger = &self.trigger[chunk.clone()];
+        let ends = first.iter().zip(second).zip(trigger);
+        for (k, ((&a, &b), &[longest, shortest])) in ends.enumerate() {
+            let length_squared = (position[b as usize] - position[a as usize]).length_squared();
+            if length_squared > f64::from(longest) || length_squared < f64::from(shortest) {
+                out.push((chunk.start + k) as u32);
             }
         }
     }
 
-    /// Break or yield spring `s`, found past a limit.
+    /// Break or yield spring `s`, found near a limit (checked exactly
+    /// here), and bound it anew.
     fn give_one(&mut self, springs: &mut Springs, position: &[Vec3], s: usize, given: &mut Given) {
+        self.give_exactly(springs, position, s, given);
+        self.trigger[s] = self.bounds(springs, s);
+    }
+
+    /// Break or yield spring `s` if it is past a limit.
+    fn give_exactly(
+        &mut self,
+        springs: &mut Springs,
+        position: &[Vec3],
+        s: usize,
+        given: &mut Given,
+    ) {
+        if springs.is_broken(s) {
+            return;
+        }
         let [a, b] = springs.endpoints(s);
         let length = position[a as usize].distance(position[b as usize]);
         let rest = springs.rest_length[s];
@@ -282,5 +326,47 @@ impl SpringLimits {
         }
         self.yield_strain.copy_from_slice(values);
         true
+    }
+}
+
+/// The search's bounds of a spring that never gives.
+const NEVER: [f32; 2] = [f32::INFINITY, 0.0];
+
+/// The smallest `f32` at least `x` (≥ 0): a bound above.
+fn above(x: Real) -> f32 {
+    let rounded = x as f32;
+    if f64::from(rounded) < x {
+        f32::from_bits(rounded.to_bits() + 1)
+    } else {
+        rounded
+    }
+}
+
+/// The largest `f32` at most `x` (≥ 0): a bound below.
+fn below(x: Real) -> f32 {
+    let rounded = x as f32;
+    if f64::from(rounded) > x {
+        f32::from_bits(rounded.to_bits() - 1)
+    } else {
+        rounded
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_bounds_round_outward() {
+        for x in [0.0, 1e-300, 0.1, 1.0 / 3.0, 2.5, 1e30, 1e39, 1e300] {
+            assert!(f64::from(below(x)) <= x, "{x}");
+            assert!(f64::from(above(x)) >= x, "{x}");
+        }
+        // Past f32's range: infinite above (every finite length within),
+        // f32::MAX below.
+        assert_eq!(above(1e300), f32::INFINITY);
+        assert_eq!(below(1e300), f32::MAX);
+        assert_eq!(above(Real::INFINITY), f32::INFINITY);
+        assert_eq!((f64::from(below(0.5)), f64::from(above(0.5))), (0.5, 0.5));
     }
 }

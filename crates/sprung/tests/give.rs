@@ -118,7 +118,7 @@ fn hardening_raises_the_yield_strain_by_h_times_the_relative_move() {
         hardening: 2.0,
         ..StrainLimits::default()
     };
-    world.limits.set(0..1, limits);
+    world.limits.set(&world.springs, 0..1, limits);
     for _ in 0..30_000 {
         world.step(1e-4).unwrap();
     }

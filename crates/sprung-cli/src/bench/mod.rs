@@ -129,6 +129,9 @@ struct Row {
     /// The share of the timed steps spent in the guarantee's stage
     /// (`ccd`; contact cases only, timed by the world's profile).
     ccd_share: Option<f64>,
+    /// The share of the timed steps spent in the give stage (springs that
+    /// yield and break; `give` cases only).
+    give_share: Option<f64>,
 }
 
 impl Row {
@@ -278,7 +281,8 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
         let mut since_restart = 0u32;
         let mut pairs = 0usize;
         let contact = case.group == Group::Contact;
-        world.set_profiling(contact);
+        let give = case.group == Group::Give;
+        world.set_profiling(contact || give);
         let longest = seconds.max(LONGEST_SECONDS);
         while taken == 0 || ((taken < steps || elapsed < seconds) && elapsed < longest) {
             let before = memory::allocated();
@@ -306,7 +310,7 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
                     // so the peak heap counts one world.
                     drop(world);
                     (world, _) = warmed_up(case)?;
-                    world.set_profiling(contact);
+                    world.set_profiling(contact || give);
                 }
             }
         }
@@ -330,6 +334,7 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
             reference: None,
             contact_pairs: contact.then(|| pairs as f64 / f64::from(taken)),
             ccd_share: contact.then(|| world.profile().share(Stage::Ccd)),
+            give_share: give.then(|| world.profile().share(Stage::Give)),
         })
     })
 }
@@ -370,7 +375,7 @@ fn print_row(row: &Row, header: bool) {
             "alloc/st",
             "×textbook",
             "pairs/st",
-            "ccd %"
+            "stage %"
         );
     }
     let textbook = row.reference.map_or_else(
@@ -396,6 +401,7 @@ fn print_row(row: &Row, header: bool) {
         row.contact_pairs
             .map_or_else(|| "–".into(), |p| format!("{p:.0}")),
         row.ccd_share
+            .or(row.give_share)
             .map_or_else(|| "–".into(), |s| format!("{:.1}", 100.0 * s))
     );
 }
@@ -406,13 +412,13 @@ fn csv(rows: &[Row]) -> String {
         "group,case,integrator,particles,springs,threads,dt,steps,ms_per_step,\
          spring_updates_per_s,particle_updates_per_s,speedup,simulated_s_per_s,\
          peak_bytes,stepping_bytes,bytes_allocated_per_step,textbook_ms_per_step,\
-         contact_pairs_per_step,ccd_share\n",
+         contact_pairs_per_step,ccd_share,give_share\n",
     );
     for row in rows {
         let optional = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:e}"));
         let _ = writeln!(
             text,
-            "{},{},{},{},{},{},{:e},{},{:e},{},{:e},{:e},{:e},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{:e},{},{:e},{},{:e},{:e},{:e},{},{},{},{},{},{},{}",
             row.group.name(),
             row.name,
             row.integrator.name(),
@@ -432,6 +438,7 @@ fn csv(rows: &[Row]) -> String {
             optional(row.reference.map(|r| r * 1e3)),
             optional(row.contact_pairs),
             optional(row.ccd_share),
+            optional(row.give_share),
         );
     }
     text

@@ -78,7 +78,7 @@ impl World {
             );
         }
         self.limits
-            .set(first_spring..self.springs.len(), data.limits);
+            .set(&self.springs, first_spring..self.springs.len(), data.limits);
         let mut body = Body {
             name: name.to_string(),
             particles: offset..self.particles.len(),

@@ -88,7 +88,7 @@ impl World {
                 break_strain: data.break_strain,
                 ..StrainLimits::default()
             };
-            self.limits.set(s..s + 1, limits);
+            self.limits.set(&self.springs, s..s + 1, limits);
             JoinLink::Spring(s)
         };
         self.joins.push(Join {
@@ -145,6 +145,11 @@ impl World {
     pub(super) fn give(&mut self) {
         if !self.limits.enabled() {
             return;
+        }
+        // The muscles moved their springs' rest lengths.
+        for muscle in &self.muscles.list {
+            let s = muscle.spring;
+            self.limits.refresh(&self.springs, s..s + 1);
         }
         let given = self
             .limits

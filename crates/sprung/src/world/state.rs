@@ -160,6 +160,8 @@ impl World {
             self.constraint_stats.unconverged_steps,
             self.constraint_stats.first_unconverged,
         ) = rods;
+        // The rest lengths came back: the springs' limits bound anew.
+        self.limits.refresh(&self.springs, 0..self.springs.len());
         Ok(())
     }
 }
