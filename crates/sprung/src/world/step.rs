@@ -17,6 +17,10 @@ use crate::{Real, Vec3};
 use super::bodies::magnitude;
 use super::World;
 use super::{Substeps, MAX_SUBSTEPS, RESTING_SPEED};
+
+/// Most rounds of rods and rigid bodies taking turns in the constrain
+/// stage, where rods end on rigid bodies.
+const RIGID_ROD_ROUNDS: usize = 100;
 use crate::stage::Stage;
 
 impl World {
@@ -230,6 +234,47 @@ impl World {
             dt,
             rest_speed,
         );
+        // Rods that end on a rigid body (joins to a pole): its shape
+        // matching moves their ends again, so the two take turns until the
+        // rods hold (alternating projections, converging linearly).
+        let on_rigid = |p: u32| {
+            self.rigid
+                .list
+                .iter()
+                .any(|r| r.particles.contains(&(p as usize)))
+        };
+        let rods = &self.rods;
+        if self.rigid.list.is_empty()
+            || !rods.first.iter().chain(&rods.second).any(|&p| on_rigid(p))
+        {
+            return;
+        }
+        (self.last_rods.worst, self.last_rods.error) = self.rods.worst(position);
+        for _ in 0..RIGID_ROD_ROUNDS {
+            if self.last_rods.error <= constraints.tolerance {
+                break;
+            }
+            self.last_rods = self.rods.project(
+                position,
+                velocity,
+                &self.step_start,
+                inverse_mass,
+                dt,
+                constraints.tolerance,
+                constraints.iterations,
+                &mut self.rod_scratch,
+            );
+            self.rigid.project(
+                position,
+                velocity,
+                mass,
+                &self.colliders,
+                self.time,
+                dt,
+                rest_speed,
+            );
+            (self.last_rods.worst, self.last_rods.error) = self.rods.worst(position);
+        }
     }
 
     /// Check the solver, contact and substep settings.
