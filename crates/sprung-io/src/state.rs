@@ -104,10 +104,11 @@ pub fn fingerprint(world: &World) -> u32 {
         hash.update(&a.to_le_bytes());
         hash.update(&b.to_le_bytes());
         if world.limits.can_give(s) {
-            // Its stiffness, damping (0 once broken) and rest length
-            // (moved by yielding) are the state's: its break strain is
-            // the scene's.
+            // Its stiffness and damping (0 once broken) and its rest
+            // length (moved by yielding) change as it runs: its break
+            // strain and sidedness are the scene's.
             hash.update(&world.limits.break_strain(s).to_le_bytes());
+            hash.update(&[u8::from(springs.one_sided[s])]);
             continue;
         }
         hash.update(&springs.stiffness[s].to_le_bytes());

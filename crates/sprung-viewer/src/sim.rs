@@ -130,11 +130,17 @@ impl Sim {
         self.world.set_integrator(s.integrator);
         let factor = self.damping_is_factor();
         let springs = &mut self.world.springs;
-        for (k, &k0) in springs.stiffness.iter_mut().zip(&self.base.stiffness) {
-            *k = k0 * s.stiffness_scale;
-        }
-        for (c, &c0) in springs.damping.iter_mut().zip(&self.base.damping) {
-            *c = if factor { c0 * s.damping } else { s.damping };
+        let count = springs
+            .len()
+            .min(self.base.stiffness.len())
+            .min(self.base.damping.len());
+        for k in 0..count {
+            if springs.is_broken(k) {
+                continue; // a broken spring stays broken
+            }
+            springs.stiffness[k] = self.base.stiffness[k] * s.stiffness_scale;
+            let c0 = self.base.damping[k];
+            springs.damping[k] = if factor { c0 * s.damping } else { s.damping };
         }
         for (body, base) in self.world.bodies.iter_mut().zip(&self.base.nrt) {
             if let (Some(gas), Some((nrt, keyframes))) = (body.gas.as_mut(), base) {

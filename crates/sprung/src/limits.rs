@@ -106,7 +106,7 @@ pub struct SpringLimits {
     /// Per spring, its hardening.
     hardening: Vec<Real>,
     /// Per spring, the squared lengths (m²) outside which it may give,
-    /// `[(L0 (1 + min(B, Y)))², (L0 (1 - Y))²]`, rounded outward to `f32`:
+    /// `[(L0 (1 + min(B, Y)))², (L0 (1 - Y))²]`, rounded inward to `f32`:
     /// the search reads 8 bytes a spring besides its ends, and checks the
     /// few it finds exactly. `[∞, 0]` for none (or broken).
     trigger: Vec<[f32; 2]>,
@@ -167,7 +167,7 @@ impl SpringLimits {
     }
 
     /// Spring `s`'s squared lengths outside which it may give, rounded
-    /// outward to `f32` (up above, down below).
+    /// inward to `f32` by two steps (down above, up below).
     fn bounds(&self, springs: &Springs, s: usize) -> [f32; 2] {
         if springs.is_broken(s) {
             return NEVER;
@@ -176,7 +176,13 @@ impl SpringLimits {
         let yield_strain = self.yield_strain[s];
         let longest = rest * (1.0 + self.break_strain[s].min(yield_strain));
         let shortest = rest * (1.0 - yield_strain).max(0.0);
-        [above(longest * longest), below(shortest * shortest)]
+        // Inward, and one more f32 step for the roundings of L² and of the
+        // exact check: every spring past a limit is found (a few near it
+        // too, checked exactly and left).
+        [
+            step_down(below(longest * longest)),
+            step_up(above(shortest * shortest)),
+        ]
     }
 
     /// Whether any spring has a limit (the `broken` and `plastic` columns
@@ -342,6 +348,26 @@ fn above(x: Real) -> f32 {
     }
 }
 
+/// The next `f32` below `f` (≥ 0): `f32::MAX` below infinity, 0 stays.
+fn step_down(f: f32) -> f32 {
+    if f == f32::INFINITY {
+        f32::MAX
+    } else if f > 0.0 {
+        f32::from_bits(f.to_bits() - 1)
+    } else {
+        f
+    }
+}
+
+/// The next `f32` above `f` (≥ 0, finite; infinity stays).
+fn step_up(f: f32) -> f32 {
+    if f.is_finite() {
+        f32::from_bits(f.to_bits() + 1)
+    } else {
+        f
+    }
+}
+
 /// The largest `f32` at most `x` (≥ 0): a bound below.
 fn below(x: Real) -> f32 {
     let rounded = x as f32;
@@ -357,16 +383,30 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_bounds_round_outward() {
-        for x in [0.0, 1e-300, 0.1, 1.0 / 3.0, 2.5, 1e30, 1e39, 1e300] {
-            assert!(f64::from(below(x)) <= x, "{x}");
-            assert!(f64::from(above(x)) >= x, "{x}");
+    fn the_bounds_round_inward_so_every_spring_past_a_limit_is_found() {
+        for x in [1e-300, 0.1, 1.0 / 3.0, 2.5, 1e30, 1e39, 1e300] {
+            assert!(f64::from(step_down(below(x))) < x, "{x}");
+            assert!(f64::from(step_up(above(x))) > x, "{x}");
         }
-        // Past f32's range: infinite above (every finite length within),
-        // f32::MAX below.
-        assert_eq!(above(1e300), f32::INFINITY);
         assert_eq!(below(1e300), f32::MAX);
-        assert_eq!(above(Real::INFINITY), f32::INFINITY);
-        assert_eq!((f64::from(below(0.5)), f64::from(above(0.5))), (0.5, 0.5));
+        assert_eq!(step_down(f32::INFINITY), f32::MAX);
+        assert_eq!((step_down(0.0), f64::from(below(0.5))), (0.0, 0.5));
+        // A spring 1 m at rest breaking past 0.1: found at any length a
+        // rounding past 1.1 m, where the exact check breaks it.
+        let mut springs = Springs::default();
+        springs.push(0, 1, 1.0, 1.0, 0.0, false);
+        let mut limits = SpringLimits::default();
+        let strain = StrainLimits {
+            break_strain: Some(0.1),
+            ..StrainLimits::default()
+        };
+        limits.set(&springs, 0..1, strain);
+        let past = 1.1 * (1.0 + 4.0 * Real::EPSILON);
+        let position = [Vec3::ZERO, Vec3::new(past, 0.0, 0.0)];
+        let mut found = Vec::new();
+        limits.past_limits(&springs, &position, 0..1, &mut found);
+        assert_eq!(found, [0]);
+        let given = limits.give(&mut springs, &position);
+        assert_eq!(given.broken, [0]);
     }
 }

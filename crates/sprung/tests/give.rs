@@ -275,6 +275,23 @@ fn joins_refuse_unknown_bodies_particles_out_of_range_and_bad_strains() {
         message.starts_with("`yield_strain` = 0.2: must be below `break_strain`"),
         "{message}"
     );
+    // A muscle's drive would undo every yield of its spring.
+    let mut body = BodyData::from_positions(vec![Vec3::ZERO, Vec3::X]);
+    body.springs.push(SpringData::between(0, 1));
+    body.muscles.push(sprung::MuscleData {
+        spring: 0,
+        drive: sprung::MuscleDrive::Sine {
+            amplitude: 0.1,
+            period: 1.0,
+            phase: 0.0,
+        },
+    });
+    body.limits.yield_strain = Some(0.1);
+    let message = world.add_body("d", body).unwrap_err().to_string();
+    assert!(
+        message.contains("cannot be combined with `muscles`"),
+        "{message}"
+    );
     assert_eq!(world.joins.len(), 1);
 }
 

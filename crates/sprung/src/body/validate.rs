@@ -43,6 +43,13 @@ impl BodyData {
         self.validate_rods(count)?;
         self.validate_muscles()?;
         self.limits.validate()?;
+        if let (Some(value), false) = (self.limits.yield_strain, self.muscles.is_empty()) {
+            return Err(BuildError::OutOfRange {
+                field: "yield_strain",
+                value,
+                reason: "cannot be combined with `muscles`: a muscle's drive sets its spring's rest length every step, which would undo each yield",
+            });
+        }
         if self.rigid && count < 2 {
             return Err(BuildError::RigidTooSmall);
         }

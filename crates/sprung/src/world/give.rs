@@ -72,6 +72,14 @@ impl World {
             self.rods.push(a, b, rest);
             JoinLink::Rod(self.rods.len() - 1)
         } else {
+            if rest > reach {
+                return Err(BuildError::BeyondLimit {
+                    field: "rest_length",
+                    index: self.joins.len(),
+                    value: rest,
+                    limit: reach,
+                });
+            }
             let energy = 0.5 * data.stiffness * reach * reach;
             if energy.is_nan() || energy >= ENERGY_LIMIT {
                 return Err(BuildError::EnergyOverflow {
@@ -179,6 +187,15 @@ impl World {
                 continue;
             }
             let crosses = |a: u32, b: u32| cut.contains(&(a.min(b), a.max(b)));
+            // The gas's energy −nRT ln V, from the closed surface's volume
+            // before it opens: it leaves with the gas.
+            let gas_energy = match (&body.gas, body.closed) {
+                (Some(gas), true) => {
+                    let volume = gas.volume_model.volume(body, position);
+                    (volume > 0.0).then(|| -gas.nrt_at(time) * volume.ln())
+                }
+                _ => None,
+            };
             let (faces, segments) = (body.faces.len(), body.segments.len());
             body.faces
                 .retain(|&[i, j, k]| !(crosses(i, j) || crosses(j, k) || crosses(k, i)));
@@ -190,12 +207,8 @@ impl World {
                     .into_iter()
                     .map(|e| e.map(|i| i as u32))
                     .collect();
-                if let (Some(gas), true) = (&body.gas, body.closed) {
-                    // The gas's energy −nRT ln V leaves with it.
-                    let volume = gas.volume_model.volume(body, position);
-                    if volume > 0.0 {
-                        self.limits.add_work(-gas.nrt_at(time) * volume.ln());
-                    }
+                if let Some(energy) = gas_energy {
+                    self.limits.add_work(energy);
                 }
                 body.closed = false;
             }
@@ -264,7 +277,10 @@ impl World {
         let rest_length = state
             .get("limits.rest_length", self.springs.len())?
             .to_vec();
-        if let Some(index) = rest_length.iter().position(|&l| l.is_nan() || l <= 0.0) {
+        if let Some(index) = rest_length
+            .iter()
+            .position(|&l| !(l.is_finite() && l > 0.0))
+        {
             return Err(bad("limits.rest_length", index, rest_length[index]));
         }
         let yield_strain = state
