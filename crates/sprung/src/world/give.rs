@@ -54,32 +54,25 @@ impl World {
                 "its ends are at the same place: give it a positive `rest_length`",
             ));
         }
+        // A join longer than the world is wide cannot hold within it.
         let reach = 2.0 * self.settings.max_distance;
+        if rest > reach {
+            return Err(BuildError::BeyondLimit {
+                field: "rest_length",
+                index: self.joins.len(),
+                value: rest,
+                limit: reach,
+            });
+        }
         let link = if data.rod {
             if self.particles.is_pinned(a as usize) && self.particles.is_pinned(b as usize) {
                 return Err(BuildError::BadJoin(
                     "a rod (`rod = true`) between two pinned particles moves nothing: it needs a free end",
                 ));
             }
-            if rest > reach {
-                return Err(BuildError::BeyondLimit {
-                    field: "rest_length",
-                    index: self.joins.len(),
-                    value: rest,
-                    limit: reach,
-                });
-            }
             self.rods.push(a, b, rest);
             JoinLink::Rod(self.rods.len() - 1)
         } else {
-            if rest > reach {
-                return Err(BuildError::BeyondLimit {
-                    field: "rest_length",
-                    index: self.joins.len(),
-                    value: rest,
-                    limit: reach,
-                });
-            }
             let energy = 0.5 * data.stiffness * reach * reach;
             if energy.is_nan() || energy >= ENERGY_LIMIT {
                 return Err(BuildError::EnergyOverflow {

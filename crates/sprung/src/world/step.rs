@@ -200,7 +200,8 @@ impl World {
         self.forces.apply_impulses(&mut context);
     }
 
-    /// The constrain stage: rods, then rigid bodies, over a step of `dt` (s).
+    /// The constrain stage: rods, then rigid bodies (taking turns where
+    /// rods end on rigid bodies), over a step of `dt` (s).
     pub(super) fn constrain(&mut self, dt: Real) {
         let Particles {
             position,
@@ -210,30 +211,11 @@ impl World {
             ..
         } = &mut self.particles;
         let constraints = self.settings.constraints;
-        self.last_rods = self.rods.project(
-            position,
-            velocity,
-            &self.step_start,
-            inverse_mass,
-            dt,
-            constraints.tolerance,
-            constraints.iterations,
-            &mut self.rod_scratch,
-        );
         // Below this approach speed a rigid body's contact rests rather
         // than bounces: two steps of gravity, and at least RESTING_SPEED
         // (a body rocking on a face would otherwise bounce for ever).
         let gravity = self.forces.uniform_acceleration().length();
         let rest_speed = (2.0 * dt * gravity).max(RESTING_SPEED);
-        self.rigid.project(
-            position,
-            velocity,
-            mass,
-            &self.colliders,
-            self.time,
-            dt,
-            rest_speed,
-        );
         // Rods that end on a rigid body (joins to a pole): its shape
         // matching moves their ends again, so the two take turns until the
         // rods hold (alternating projections, converging linearly).
@@ -244,16 +226,9 @@ impl World {
                 .any(|r| r.particles.contains(&(p as usize)))
         };
         let rods = &self.rods;
-        if self.rigid.list.is_empty()
-            || !rods.first.iter().chain(&rods.second).any(|&p| on_rigid(p))
-        {
-            return;
-        }
-        (self.last_rods.worst, self.last_rods.error) = self.rods.worst(position);
-        for _ in 0..RIGID_ROD_ROUNDS {
-            if self.last_rods.error <= constraints.tolerance {
-                break;
-            }
+        let turns = !self.rigid.list.is_empty()
+            && rods.first.iter().chain(&rods.second).any(|&p| on_rigid(p));
+        for _ in 0..=RIGID_ROD_ROUNDS {
             self.last_rods = self.rods.project(
                 position,
                 velocity,
@@ -273,7 +248,13 @@ impl World {
                 dt,
                 rest_speed,
             );
+            if !turns {
+                break;
+            }
             (self.last_rods.worst, self.last_rods.error) = self.rods.worst(position);
+            if self.last_rods.error <= constraints.tolerance {
+                break;
+            }
         }
     }
 
