@@ -417,3 +417,52 @@ fn a_flag_hangs_from_a_thrown_rigid_pole_by_rods() {
         world.particles.position[2].y
     );
 }
+
+#[test]
+fn the_movement_budget_gives_what_a_search_every_step_gives() {
+    // The same tearing cloth twice: once as it runs (a full search only
+    // when the particles have moved far enough for a spring to reach its
+    // limit), once with a search forced every step (refreshing no spring
+    // drops the budget). Both break the same springs at the same steps:
+    // the same bits every step.
+    let dt = 5e-4;
+    let (mut budget, mut every) = (tearing(), tearing());
+    let steps = 1_500;
+    let mut before_tear = None;
+    for step in 0..steps {
+        budget.step(dt).unwrap();
+        every.limits.refresh(&every.springs, 0..0);
+        every.step(dt).unwrap();
+        assert_eq!(
+            budget.particles.position, every.particles.position,
+            "step {step}"
+        );
+        assert_eq!(budget.limits.broken_count(), every.limits.broken_count());
+        if budget.limits.broken_count() > 0 && before_tear.is_none() {
+            before_tear = Some((step, budget.limits.searches()));
+        }
+    }
+    assert_eq!(every.limits.searches(), steps);
+    // While the cloth stretched towards the tear, the budget skipped at
+    // least nine searches in ten.
+    let (step, searches) = before_tear.expect("the cloth never tore");
+    assert!(searches * 10 < step, "{searches} searches in {step} steps");
+}
+
+#[test]
+fn a_particle_moved_by_hand_is_seen_by_the_next_search() {
+    let dt = 1.0 / 16.0;
+    // The bob hangs still at strain 0.125, 0.075 m from its break length:
+    // after the first search nothing moves and no pass searches again.
+    let mut world = bob(0.2);
+    for _ in 0..100 {
+        world.step(dt).unwrap();
+    }
+    assert_eq!(world.limits.searches(), 1);
+    // Moved by hand to strain 0.5: the next step's pass measures the move,
+    // searches and breaks the spring.
+    world.particles.position[1].y = -1.5;
+    world.step(dt).unwrap();
+    assert_eq!(world.limits.searches(), 2);
+    assert_eq!(world.limits.broken_count(), 1);
+}

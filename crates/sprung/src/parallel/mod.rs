@@ -277,18 +277,33 @@ pub(crate) fn collect_chunks<T: Send>(
     buffers: &mut Vec<Vec<T>>,
     f: impl Fn(Range<usize>, &mut Vec<T>) + Sync,
 ) {
+    buffers.iter_mut().for_each(Vec::clear);
+    for_each_piece(len, chunk, buffers, f);
+}
+
+/// Call `f(piece, buffer)` on the pieces of `0..len` of at most `chunk`
+/// indices, in parallel, each with a buffer of its own that `f` fills
+/// (`buffers[c]` for piece `c`, grown to the count of pieces and kept for
+/// the next call); returns the count of pieces. One piece runs on the
+/// calling thread.
+pub(crate) fn for_each_piece<B: Send + Default>(
+    len: usize,
+    chunk: usize,
+    buffers: &mut Vec<B>,
+    f: impl Fn(Range<usize>, &mut B) + Sync,
+) -> usize {
     let chunk = chunk.max(1);
     let pieces = len.div_ceil(chunk);
     if buffers.len() < pieces {
-        buffers.resize_with(pieces, Vec::new);
+        buffers.resize_with(pieces, B::default);
     }
-    buffers.iter_mut().for_each(Vec::clear);
-    let run = |(c, buffer): (usize, &mut Vec<T>)| f(c * chunk..((c + 1) * chunk).min(len), buffer);
+    let run = |(c, buffer): (usize, &mut B)| f(c * chunk..((c + 1) * chunk).min(len), buffer);
     if pieces <= 1 {
         buffers.iter_mut().take(pieces).enumerate().for_each(run);
     } else {
         buffers[..pieces].par_iter_mut().enumerate().for_each(run);
     }
+    pieces
 }
 
 /// Call `f(first, share)` on consecutive shares of `out`, one per thread,

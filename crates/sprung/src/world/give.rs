@@ -147,10 +147,13 @@ impl World {
         if !self.limits.enabled() {
             return;
         }
-        // The muscles moved their springs' rest lengths.
+        // The muscles moved their springs' rest lengths (those that can
+        // give are bounded anew, and searched for every step).
         for muscle in &self.muscles.list {
             let s = muscle.spring;
-            self.limits.refresh(&self.springs, s..s + 1);
+            if self.limits.can_give(s) {
+                self.limits.refresh(&self.springs, s..s + 1);
+            }
         }
         let given = self
             .limits

@@ -18,6 +18,12 @@
 //! (the `plastic` energy column), so the energy balance of a run still
 //! closes. Springs with neither limit cost nothing: the stage walks only
 //! the ranges of springs that have one.
+//!
+//! A full search reads every watched spring's two ends; between searches
+//! a budget of the particles' moves (`limits/budget.rs`) tells when the
+//! next one is due.
+
+mod budget;
 
 use std::ops::Range;
 
@@ -25,6 +31,7 @@ use crate::error::BuildError;
 use crate::parallel;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
+use budget::MoveBudget;
 
 /// How a body's (or a join's) springs give way: the scene keys
 /// `break_strain`, `yield_strain` and `hardening`.
@@ -116,8 +123,24 @@ pub struct SpringLimits {
     broken: u64,
     /// Energy taken out by yielding and breaking so far (J).
     plastic_work: Real,
-    /// Scratch: the springs past a limit, per chunk.
-    found: Vec<Vec<u32>>,
+    /// Scratch: per chunk, the springs past a limit and how near the
+    /// others are.
+    found: Vec<Found>,
+    /// When the next search is due.
+    budget: MoveBudget,
+    /// Full searches run so far (the rest were skipped on the budget).
+    searches: u64,
+}
+
+/// What the search of one chunk of springs found.
+#[derive(Debug, Clone, Default)]
+struct Found {
+    /// The springs past (or within a rounding of) a limit, in order.
+    springs: Vec<u32>,
+    /// The smallest slack of the chunk's springs (m): a bound below on
+    /// how far each length is from its bounds; negative where one was
+    /// found.
+    slack: Real,
 }
 
 /// What one pass of [`SpringLimits::give`] did.
@@ -150,6 +173,13 @@ impl SpringLimits {
             _ => self.watched.push(range.clone()),
         }
         self.watched.sort_by_key(|r| r.start);
+        let ends = springs.first()[range.clone()]
+            .iter()
+            .chain(&springs.second()[range.clone()]);
+        let (low, high) = ends.fold((usize::MAX, 0), |(low, high), &p| {
+            (low.min(p as usize), high.max(p as usize + 1))
+        });
+        self.budget.watch(low..high);
         self.refresh(springs, range);
     }
 
@@ -164,6 +194,8 @@ impl SpringLimits {
         for s in range.start..end {
             self.trigger[s] = self.bounds(springs, s);
         }
+        // The slack was measured from the old bounds: search next time.
+        self.budget.clear();
     }
 
     /// Spring `s`'s squared lengths outside which it may give, rounded
@@ -189,6 +221,12 @@ impl SpringLimits {
     /// are written then).
     pub fn enabled(&self) -> bool {
         !self.watched.is_empty()
+    }
+
+    /// Full searches of the watched springs run so far; the other passes
+    /// of [`Self::give`] were skipped on the movement budget.
+    pub fn searches(&self) -> u64 {
+        self.searches
     }
 
     /// Springs broken so far.
@@ -219,46 +257,88 @@ impl SpringLimits {
 
     /// Yield and break the springs past their limits at `position`, in
     /// spring order (the search runs in parallel chunks, their findings
-    /// taken in order: the same on any number of threads).
+    /// taken in order: the same on any number of threads). Skipped while
+    /// the particles have moved too little since the last search for any
+    /// spring to have reached a limit (the module's movement budget).
     pub fn give(&mut self, springs: &mut Springs, position: &[Vec3]) -> Given {
+        if self.budget.allows(position) {
+            return Given::default();
+        }
+        self.searches += 1;
         let mut found = std::mem::take(&mut self.found);
         let mut given = Given::default();
+        let measure = self.budget.plan();
+        let mut slack = Real::INFINITY;
         for w in 0..self.watched.len() {
             let range = self.watched[w].start..self.watched[w].end.min(springs.len());
             let this = &*self;
             let springs_now = &*springs;
-            parallel::collect_chunks(range.len(), parallel::CHUNK, &mut found, |chunk, out| {
-                let chunk = range.start + chunk.start..range.start + chunk.end;
-                this.past_limits(springs_now, position, chunk, out);
-            });
-            for &s in found.iter().flatten() {
+            let pieces =
+                parallel::for_each_piece(range.len(), parallel::CHUNK, &mut found, |chunk, out| {
+                    let chunk = range.start + chunk.start..range.start + chunk.end;
+                    if measure {
+                        this.past_limits::<true>(springs_now, position, chunk, out);
+                    } else {
+                        this.past_limits::<false>(springs_now, position, chunk, out);
+                    }
+                });
+            for piece in &found[..pieces] {
+                slack = slack.min(piece.slack);
+            }
+            for &s in found[..pieces].iter().flat_map(|piece| &piece.springs) {
                 self.give_one(springs, position, s as usize, &mut given);
             }
         }
         self.found = found;
+        // Where a spring was found, it is on (or near) a bound: its slack is
+        // at most zero and the next pass searches again.
+        if measure {
+            self.budget.keep(position, slack);
+        }
         given
     }
 
     /// Push the springs of `chunk` past a limit at `position` onto `out`:
-    /// `L² > (L0 (1 + min(B, Y)))²` or `L² < (L0 (1 − Y))²`, without a
-    /// square root.
-    fn past_limits(
+    /// `L² > T = (L0 (1 + min(B, Y)))²` or `L² < S = (L0 (1 − Y))²`, without
+    /// a square root of `L²`; and, with `SLACK`, the smallest slack of the
+    /// others (else infinity).
+    ///
+    /// A spring's slack is at least `min(T − L², L² − S) / (2 √T)` (m; the
+    /// lower side only where `S > 0`): `T − L² = (√T − L)(√T + L)` and
+    /// `L² − S = (L − √S)(L + √S)`, where `√S ≤ L ≤ √T` for a spring not
+    /// found. `√T` is taken in `f32` (a vector unit's eight lanes at once)
+    /// and rounded up by far more than its error.
+    fn past_limits<const SLACK: bool>(
         &self,
         springs: &Springs,
         position: &[Vec3],
         chunk: Range<usize>,
-        out: &mut Vec<u32>,
+        out: &mut Found,
     ) {
         let first = &springs.first()[chunk.clone()];
         let second = &springs.second()[chunk.clone()];
         let trigger = &self.trigger[chunk.clone()];
         let ends = first.iter().zip(second).zip(trigger);
-        for (k, ((&a, &b), &[longest, shortest])) in ends.enumerate() {
+        out.springs.clear();
+        let mut slack = Real::INFINITY;
+        for (k, ((&a, &b), &[upper, lower])) in ends.enumerate() {
             let length_squared = (position[b as usize] - position[a as usize]).length_squared();
-            if length_squared > f64::from(longest) || length_squared < f64::from(shortest) {
-                out.push((chunk.start + k) as u32);
+            let (upper_f32, upper, lower) = (upper, Real::from(upper), Real::from(lower));
+            if length_squared > upper || length_squared < lower {
+                out.springs.push((chunk.start + k) as u32);
+            }
+            if SLACK {
+                let longest = Real::from(upper_f32.sqrt()) * (1.0 + 1e-6);
+                let gap_below = if lower > 0.0 {
+                    length_squared - lower
+                } else {
+                    Real::INFINITY
+                };
+                // A broken spring (T = ∞) gives ∞ / ∞, NaN, which `min` passes over.
+                slack = slack.min((upper - length_squared).min(gap_below) / (2.0 * longest));
             }
         }
+        out.slack = slack;
     }
 
     /// Break or yield spring `s`, found near a limit (checked exactly
@@ -403,9 +483,10 @@ mod tests {
         limits.set(&springs, 0..1, strain);
         let past = 1.1 * (1.0 + 4.0 * Real::EPSILON);
         let position = [Vec3::ZERO, Vec3::new(past, 0.0, 0.0)];
-        let mut found = Vec::new();
-        limits.past_limits(&springs, &position, 0..1, &mut found);
-        assert_eq!(found, [0]);
+        let mut found = Found::default();
+        limits.past_limits::<true>(&springs, &position, 0..1, &mut found);
+        assert_eq!(found.springs, [0]);
+        assert!(found.slack < 0.0);
         let given = limits.give(&mut springs, &position);
         assert_eq!(given.broken, [0]);
     }
