@@ -148,6 +148,34 @@ fn the_animation_replays_every_recorded_frame() {
     }
 }
 
+/// The file grows linearly in its frames: each frame adds its positions
+/// and one stored weight (sparse), not a weight for every other frame. A
+/// 6-particle rope recorded every step: 72 bytes of positions a frame, so
+/// dense weights (4 bytes × frames a frame) would make 400 frames about
+/// four times the file of 200; linear growth with the base mesh and
+/// header shared makes it at most twice.
+#[test]
+fn the_file_grows_linearly_in_its_frames() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    let rope = SCENE.split("[[body]]").nth(2).expect("the rope");
+    write(d, "r.toml", &format!("[sim]\ndt = 5e-4\n\n[[body]]{rope}"));
+    let size = |steps: &str, out: &str| {
+        let args = ["run", "r.toml", "--format", "gltf", "--every", "1"];
+        let output = sprung(&[&args[..], &["--steps", steps, "--out", out]].concat(), d);
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        std::fs::metadata(d.join(out).join("animation.glb"))
+            .expect("glb")
+            .len()
+    };
+    let (short, long) = (size("200", "a"), size("400", "b"));
+    assert!(long > short, "{long} {short}");
+    assert!(
+        long <= 2 * short,
+        "{long} bytes for 401 frames, {short} for 201"
+    );
+}
+
 /// Too many frames for the animation's budget is refused before the run.
 #[test]
 fn an_animation_too_large_is_refused_before_the_run() {

@@ -14,8 +14,8 @@
 //!
 //! glTF stores single precision: positions come back to about 1e-7 of
 //! their size (1e-6 m within 8 m of the origin), times to 1e-7 relative.
-//! The weights take `frames²` numbers per body: keep long runs' frame
-//! count down with `--every` (see [`Animation::estimated_bytes`]).
+//! The weights are stored sparse (only the one weight of 1 per frame), so
+//! a file grows linearly in its frames (see [`Animation::estimated_bytes`]).
 
 use std::ops::Range;
 use std::path::Path;
@@ -99,14 +99,10 @@ impl Animation {
 
     /// Bytes a run of `frames` recorded frames of `world` takes in memory
     /// and in the file, about: positions and normals per particle and
-    /// frame, and the weights, `frames²` per body.
+    /// frame, and per body and frame a time, a weight and its index.
     pub fn estimated_bytes(world: &World, frames: u64) -> u64 {
-        let per_frame = 24 * world.particles.len() as u64;
-        let bodies = world.bodies.len() as u64;
-        per_frame.saturating_mul(frames).saturating_add(
-            4u64.saturating_mul(bodies)
-                .saturating_mul(frames.saturating_mul(frames)),
-        )
+        let per_frame = 24 * world.particles.len() as u64 + 12 * world.bodies.len() as u64;
+        per_frame.saturating_mul(frames)
     }
 
     /// Record `world`'s current state as the next frame.
@@ -253,12 +249,12 @@ impl Animation {
             });
             nodes.push(node);
             if count > 0 {
-                // Frame k (k ≥ 1) is target k − 1 at full weight.
-                let mut weights = vec![0.0f32; frames * count];
-                for k in 1..frames {
-                    weights[k * count + k - 1] = 1.0;
-                }
-                let output = file.floats(&weights, 1, json::accessor::Type::Scalar, None, false);
+                // Frame k (k ≥ 1) is target k − 1 at full weight, every
+                // other weight 0: a sparse accessor of `frames × count`
+                // zeros with the `frames − 1` ones stored (linear in the
+                // frames, where the dense weights grow as their square).
+                let ones: Vec<u32> = (1..frames).map(|k| (k * count + k - 1) as u32).collect();
+                let output = file.sparse_floats(frames * count, &ones, &vec![1.0; ones.len()]);
                 let sampler = json::animation::Sampler {
                     extensions: None,
                     extras: None,
@@ -386,6 +382,56 @@ impl Builder {
             name: None,
             normalized: false,
             sparse: None,
+        })
+    }
+
+    /// An accessor of `len` scalars, all zero but at `indices` (ascending),
+    /// which hold `values`: a glTF sparse accessor with no view of its own.
+    fn sparse_floats(
+        &mut self,
+        len: usize,
+        indices: &[u32],
+        values: &[f32],
+    ) -> json::Index<json::Accessor> {
+        let index_bytes: Vec<u8> = indices.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let value_bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let index_view = self.view(&index_bytes, None);
+        let value_view = self.view(&value_bytes, None);
+        let sparse = json::accessor::sparse::Sparse {
+            count: USize64::from(indices.len()),
+            indices: json::accessor::sparse::Indices {
+                buffer_view: index_view,
+                byte_offset: USize64(0),
+                component_type: Valid(json::accessor::IndexComponentType(
+                    json::accessor::ComponentType::U32,
+                )),
+                extensions: None,
+                extras: Default::default(),
+            },
+            values: json::accessor::sparse::Values {
+                buffer_view: value_view,
+                byte_offset: USize64(0),
+                extensions: None,
+                extras: Default::default(),
+            },
+            extensions: None,
+            extras: Default::default(),
+        };
+        self.root.push(json::Accessor {
+            buffer_view: None,
+            byte_offset: None,
+            count: USize64::from(len),
+            component_type: Valid(json::accessor::GenericComponentType(
+                json::accessor::ComponentType::F32,
+            )),
+            extensions: None,
+            extras: None,
+            type_: Valid(json::accessor::Type::Scalar),
+            min: None,
+            max: None,
+            name: None,
+            normalized: false,
+            sparse: (!indices.is_empty()).then_some(sparse),
         })
     }
 
