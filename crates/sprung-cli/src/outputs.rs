@@ -37,17 +37,19 @@ pub struct Outputs<'a> {
 impl<'a> Outputs<'a> {
     /// Prepare `out` for a run of `world` stepping by `dt` (s), recording
     /// every `every` steps, about `records` rows in all, going on from
-    /// `resumed` if given: refuse what cannot be done before anything is
-    /// written.
+    /// `resumed` if given, reading the files `inputs`: refuse what cannot
+    /// be done (an output over an input, a state file that cannot be
+    /// written) before anything is written.
     pub fn open(
         out: &Path,
         world: &World,
         (dt, every): (f64, u64),
         options: &'a RunOptions,
-        resumed: Option<Resumed>,
+        (resumed, inputs): (Option<Resumed>, &[&Path]),
         records: u64,
     ) -> Result<Self, CliError> {
         let format = options.format;
+        check_inputs_kept(inputs, out, options.save_state.as_deref())?;
         if format == Some(OutputFormat::Gltf) {
             let bytes = Animation::estimated_bytes(world, records);
             if bytes > ANIMATION_BUDGET {
@@ -66,6 +68,10 @@ impl<'a> Outputs<'a> {
                 )));
             }
             check_state_path(state, out)?;
+            // A state in the run's folder is probed once the folder is made.
+            if state_folder(state).is_dir() {
+                check_writable(state)?;
+            }
         }
         let csv = out.join("diagnostics.csv");
         let table = |name: &&str| out.join(name).is_file();
@@ -78,6 +84,9 @@ impl<'a> Outputs<'a> {
         let frames_dir = out.join("frames");
         let first_frame = resumed.map_or(0, |r| r.rows);
         prepare_output(out, &frames_dir, first_frame)?;
+        if let Some(state) = &options.save_state {
+            check_writable(state)?;
+        }
         if matches!(format, Some(OutputFormat::Frames(_))) {
             std::fs::create_dir_all(&frames_dir).map_err(|e| {
                 CliError::Io(format!("cannot create {}: {e}", frames_dir.display()))
@@ -153,9 +162,6 @@ impl<'a> Outputs<'a> {
             animation.write(&path).map_err(|e| io(&path, e))?;
         }
         let rows = self.diagnostics.rows();
-        if save {
-            self.save(world, state_rows)?;
-        }
         let mut place = format!(
             "{rows} rows in {}",
             self.out.join("diagnostics.csv").display()
@@ -181,7 +187,18 @@ impl<'a> Outputs<'a> {
             };
             place.push_str(&format!("; {which} {}", path.display()));
         }
+        let (options, dt, every) = (self.options, self.dt, self.every);
         self.diagnostics.finish().map_err(|e| io(&self.out, e))?;
+        // Last, so that a state that cannot be written loses none of the
+        // results above.
+        if let (true, Some(path)) = (save, &options.save_state) {
+            checkpoint::save(path, world, state_rows, dt, every).map_err(|e| match e {
+                CliError::Io(why) => {
+                    CliError::Io(format!("{why} (the run's results are kept: {place})"))
+                }
+                other => other,
+            })?;
+        }
         Ok(place)
     }
 
@@ -285,6 +302,71 @@ fn check_state_path(state: &Path, out: &Path) -> Result<(), CliError> {
         ));
     }
     Ok(())
+}
+
+/// Refuse a run whose outputs (`--save-state`, or a table, animation or
+/// frame in `out`) would be written over one of the files it reads,
+/// `inputs` (the scene, its meshes, the state it resumes from).
+fn check_inputs_kept(inputs: &[&Path], out: &Path, state: Option<&Path>) -> Result<(), CliError> {
+    let out_resolved = resolved(out);
+    let frames = out_resolved.join("frames");
+    let state_resolved = state.map(resolved);
+    for input in inputs {
+        let input_resolved = resolved(input);
+        let over = if state_resolved.as_ref() == Some(&input_resolved) {
+            Some(format!("--save-state {}", state.unwrap_or(input).display()))
+        } else if DIAGNOSTICS_TABLES
+            .iter()
+            .chain(&[ANIMATION])
+            .any(|name| input_resolved == out_resolved.join(name))
+            || (input_resolved.starts_with(&frames)
+                && input_resolved
+                    .file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with("frame_")))
+        {
+            Some(format!("the run's outputs in --out {}", out.display()))
+        } else {
+            None
+        };
+        if let Some(output) = over {
+            return Err(CliError::Input(format!(
+                "{output} would be written over {}, which this run reads: give another path (nothing was written)",
+                input.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The folder a `--save-state` file goes in.
+fn state_folder(state: &Path) -> &Path {
+    match state.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        _ => Path::new("."),
+    }
+}
+
+/// Refuse a `--save-state` file whose folder does not take a new file,
+/// by making (and removing) an empty one beside it: found before the
+/// run, not after it.
+fn check_writable(state: &Path) -> Result<(), CliError> {
+    let folder = state_folder(state);
+    let probe = folder.join(format!(".sprung-probe-{}", std::process::id()));
+    let made = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe);
+    match made {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => Err(CliError::Input(format!(
+            "--save-state {}: cannot write a file in {}: {e} (nothing was run)",
+            state.display(),
+            folder.display()
+        ))),
+    }
 }
 
 /// The format the run in `out` recorded its frames in, from its files:

@@ -141,12 +141,19 @@ pub fn run_scene(
     }
     // Rows this run will record, at most (for the animation's budget).
     let records = (steps - scene.world.steps()) / every + 2;
+    // What the run reads, which no output may be written over.
+    let inputs: Vec<&Path> = [scene.path.as_path()]
+        .into_iter()
+        .filter(|path| path.is_file())
+        .chain(copy.into_iter().flat_map(SceneCopy::mesh_sources))
+        .chain(options.resume.as_deref())
+        .collect();
     let mut outputs = Outputs::open(
         out,
         &scene.world,
         (scene.dt, every),
         options,
-        resumed,
+        (resumed, &inputs),
         records,
     )?;
     if let Some(copy) = copy {

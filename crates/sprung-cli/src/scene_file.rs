@@ -177,6 +177,11 @@ pub struct SceneCopy {
 }
 
 impl SceneCopy {
+    /// The mesh files the scene reads (their paths on the disk).
+    pub fn mesh_sources(&self) -> impl Iterator<Item = &Path> {
+        self.meshes.iter().map(|(source, _)| source.as_path())
+    }
+
     /// Write `out/meshes/NAME` for each mesh, then `out/scene.toml`, each
     /// atomically (a mesh of the scene that is already there, as when the
     /// run's own copy is run again into its folder, is read whole before
