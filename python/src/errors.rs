@@ -93,6 +93,25 @@ pub fn step_error(py: Python<'_>, error: &StepError) -> PyErr {
                 ("body", value(py, body.clone())),
             ],
         ),
+        StepError::NotFinite {
+            step,
+            time,
+            quantity,
+            dt,
+            stable_dt,
+            ..
+        } => typed(
+            py,
+            "BlowUp",
+            error.to_string(),
+            &[
+                ("step", value(py, step)),
+                ("time", value(py, time)),
+                ("stable_dt", value(py, stable_dt)),
+                ("dt", value(py, dt)),
+                ("quantity", value(py, quantity.clone())),
+            ],
+        ),
         StepError::Solver { step, time, .. }
         | StepError::TooManyContacts { step, time, .. }
         | StepError::RodOff { step, time, .. } => typed(

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use sprung::World;
-use sprung_io::export::{self, Animation, Diagnostics, OutputFormat};
+use sprung_io::export::{self, Animation, Diagnostics, NotFiniteValue, OutputFormat};
 
 use crate::checkpoint::{self, Resumed};
 use crate::run::CliError;
@@ -112,13 +112,23 @@ impl<'a> Outputs<'a> {
         })
     }
 
-    /// Record a row of `world`'s state, and its frame.
+    /// Record a row of `world`'s state, and its frame. A row that would
+    /// hold a non-finite number is not written: `CliError::BlowUp` (with no
+    /// sentence of what was kept; see [`Outputs::finish`]).
     pub fn record(&mut self, world: &World) -> Result<(), CliError> {
         // Frame n goes with row n, in a resumed run too.
         let index = self.diagnostics.rows();
-        self.diagnostics
-            .record(world)
-            .map_err(|e| io(&self.out, e))?;
+        self.diagnostics.record(world).map_err(|e| {
+            let not_finite = e.get_ref().and_then(|e| e.downcast_ref::<NotFiniteValue>());
+            match not_finite {
+                // Stopped as a blow-up: the caller keeps what was written.
+                Some(bad) => CliError::BlowUp(
+                    world.not_finite(&bad.quantity, bad.value, self.dt),
+                    String::new(),
+                ),
+                None => io(&self.out, e),
+            }
+        })?;
         match self.format {
             Some(OutputFormat::Frames(format)) => {
                 export::write_frame(&self.frames_dir, index, world, format)

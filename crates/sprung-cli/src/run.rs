@@ -65,6 +65,19 @@ impl From<SceneError> for CliError {
     }
 }
 
+/// A blow-up found while recording (a non-finite number a row would
+/// hold): finish the outputs so far and say where they are kept; any other
+/// error as it is.
+fn kept(stop: CliError, outputs: Outputs, world: &sprung::World) -> CliError {
+    match stop {
+        CliError::BlowUp(error, _) => match outputs.finish(world, 0, false) {
+            Ok(place) => CliError::BlowUp(error, format!("kept up to the last good step: {place}")),
+            Err(other) => other,
+        },
+        other => other,
+    }
+}
+
 /// `sprung run SCENE`: read the file (standard input for `-`, its
 /// relative paths from `base_dir`), apply the `--set` overrides, then
 /// [`run_scene`], which keeps the effective scene in the run's folder.
@@ -160,7 +173,9 @@ pub fn run_scene(
         copy.write(out)?;
     }
     if resumed.is_none() {
-        outputs.record(&scene.world)?;
+        if let Err(stop) = outputs.record(&scene.world) {
+            return Err(kept(stop, outputs, &scene.world));
+        }
     }
     interrupt::install();
     scene.world.set_profiling(options.profile);
@@ -206,7 +221,10 @@ pub fn run_scene(
             }
         }
         if step % every == 0 || step == steps {
-            outputs.record(&scene.world)?;
+            if let Err(stop) = outputs.record(&scene.world) {
+                progress.abandon();
+                return Err(kept(stop, outputs, &scene.world));
+            }
         }
         if options.checkpoint_every.is_some_and(|k| step % k == 0) && step != steps {
             outputs.checkpoint(&scene.world)?;

@@ -474,6 +474,24 @@ pub enum StepError {
         /// Stable time-step estimate from the springs and masses (s).
         stable_dt: Real,
     },
+    /// A quantity the run reports (the time, an energy, a body's volume,
+    /// pressure or centre) came out infinite or NaN from a finite state:
+    /// the run must stop before it is written anywhere.
+    #[error("simulation blew up at step {step} (t = {} s): {quantity} = {value}, not a finite number; {}", Seconds(*time), advice(*dt, *stable_dt))]
+    NotFinite {
+        /// Number of the step that produced it (0: the starting state).
+        step: u64,
+        /// Simulated time at the end of that step (s).
+        time: Real,
+        /// What it is, as its column is named (`time`, `spring`, ...).
+        quantity: String,
+        /// Its value: infinite or NaN.
+        value: Real,
+        /// The time step used (s).
+        dt: Real,
+        /// Stable time-step estimate from the springs and masses (s).
+        stable_dt: Real,
+    },
 }
 
 /// A number for a message, as written in a scene: plainly between 1e-4

@@ -196,11 +196,25 @@ impl Diagnostics {
     /// (`ccd_impulses`, `ccd_zones`); where springs can break or yield,
     /// the springs and joins broken so far (`broken`).
     pub fn record(&mut self, world: &World) -> io::Result<()> {
+        let mut bad: Option<NotFiniteValue> = None;
+        let mut number = |quantity: &dyn Fn() -> String, value: f64| {
+            if !value.is_finite() && bad.is_none() {
+                bad = Some(NotFiniteValue {
+                    quantity: quantity(),
+                    value,
+                });
+            }
+            Real(value).to_string()
+        };
         let optional = |value: Option<f64>| value.map(|v| Real(v).to_string()).unwrap_or_default();
         let report = world.last_step_report();
-        let mut row = format!("{},{}", world.steps(), Real(world.time()));
-        for (_, energy) in energy_columns(world, &self.energy_names) {
-            row.push_str(&format!(",{}", Real(energy)));
+        let mut row = format!(
+            "{},{}",
+            world.steps(),
+            number(&|| "time".into(), world.time())
+        );
+        for (name, energy) in energy_columns(world, &self.energy_names) {
+            row.push_str(&format!(",{}", number(&|| name.to_string(), energy)));
         }
         let ccd = world.last_ccd_report();
         row.push_str(&format!(
@@ -216,22 +230,39 @@ impl Diagnostics {
         if world.limits.enabled() {
             row.push_str(&format!(",{}", world.limits.broken_count()));
         }
-        for index in 0..world.bodies.len() {
+        for (index, body) in world.bodies.iter().enumerate() {
             let c = world.centroid(index).unwrap_or_default();
+            let column = |what: &str| format!("{}.{what}", body.name);
+            let mut maybe = |what: &str, value: Option<f64>| {
+                value
+                    .map(|v| number(&|| column(what), v))
+                    .unwrap_or_default()
+            };
             let (volume, pressure) = (
-                optional(world.volume(index)),
-                optional(world.pressure(index)),
+                maybe("volume", world.volume(index)),
+                maybe("pressure", world.pressure(index)),
             );
-            row.push_str(&format!(
-                ",{volume},{pressure},{},{},{}",
-                Real(c.x),
-                Real(c.y),
-                Real(c.z)
-            ));
+            let (x, y, z) = (
+                number(&|| column("cx"), c.x),
+                number(&|| column("cy"), c.y),
+                number(&|| column("cz"), c.z),
+            );
+            row.push_str(&format!(",{volume},{pressure},{x},{y},{z}"));
         }
         for &p in &self.probes {
             let x = world.particles.position[p];
-            row.push_str(&format!(",{},{},{}", Real(x.x), Real(x.y), Real(x.z)));
+            let probe = |axis: &str| format!("p{p}.{axis}");
+            row.push_str(&format!(
+                ",{},{},{}",
+                number(&|| probe("x"), x.x),
+                number(&|| probe("y"), x.y),
+                number(&|| probe("z"), x.z)
+            ));
+        }
+        // Finite in, finite out: a row with a non-finite number is not
+        // written; the error says which.
+        if let Some(bad) = bad {
+            return Err(io::Error::new(io::ErrorKind::InvalidData, bad));
         }
         writeln!(self.file, "{row}")?;
         self.rows += 1;
@@ -335,6 +366,26 @@ impl std::fmt::Display for Real {
         }
     }
 }
+
+/// A number a row would have held that is not finite: the row is not
+/// written. [`Diagnostics::record`] returns it inside an
+/// [`io::ErrorKind::InvalidData`] error (`get_ref` and `downcast_ref` find
+/// it), so that a run can stop as a blow-up.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NotFiniteValue {
+    /// Its column's name (`time`, `spring`, `ball.pressure`, ...).
+    pub quantity: String,
+    /// The value: infinite or NaN.
+    pub value: f64,
+}
+
+impl std::fmt::Display for NotFiniteValue {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} = {}, not a finite number", self.quantity, self.value)
+    }
+}
+
+impl std::error::Error for NotFiniteValue {}
 
 /// How many potential terms come before the `total` column: the
 /// textbook's three (spring, gravity, gas), as the first tables had them;

@@ -24,7 +24,7 @@ mod vtu_read;
 
 pub use animation::Animation;
 pub use atomic::AtomicFile;
-pub use diagnostics::{energy_columns, Diagnostics, Real};
+pub use diagnostics::{energy_columns, Diagnostics, NotFiniteValue, Real};
 pub use frame::CellKind;
 pub use series::{series_path, write_series};
 pub use vtk_read::{read_vtk_frame, DataArray, VtkFrame, VtkReadError};

@@ -311,6 +311,17 @@ pub fn parse_scene_with(
         let span = table.span();
         let collider = collider(table.get_ref())
             .map_err(|(key, m)| at(span.clone(), key, format!("collider: {m}")))?;
+        collider
+            .validate_within(world.settings.max_distance)
+            .map_err(|e| {
+                let key = match &e {
+                    BuildError::EnergyOverflow { .. } => "penalty_stiffness",
+                    BuildError::BeyondLimit { index, .. } if *index > 0 => "path",
+                    _ if table.get_ref().plane.is_some() => "plane",
+                    _ => "sphere",
+                };
+                at(span.clone(), key, format!("collider: {e}"))
+            })?;
         world.colliders.push(collider);
     }
     if let Some(table) = &file.wind {

@@ -8,6 +8,10 @@ use sprung::{IntegratorKind, Real, Substeps, World};
 use super::tables::{SimTable, SubstepsValue};
 use super::{body, positive, vector, KeyError, DEFAULT_DURATION, MAX_STEPS};
 
+/// The latest time a run may reach (s): the same bound as its energies'
+/// ([`sprung::error::ENERGY_LIMIT`]).
+const TIME_LIMIT: Real = sprung::error::ENERGY_LIMIT;
+
 pub(super) fn timing(sim: &SimTable) -> Result<(IntegratorKind, Real, u64), KeyError> {
     let integrator = match &sim.integrator {
         None => IntegratorKind::SymplecticEuler,
@@ -46,6 +50,15 @@ pub(super) fn timing(sim: &SimTable) -> Result<(IntegratorKind, Real, u64), KeyE
             steps as u64
         }
     };
+    // Finite in, finite out: the run's clock must end finite, within the
+    // bound the energies keep to.
+    let end = dt * steps as Real;
+    if end > TIME_LIMIT {
+        return Err((
+            "dt",
+            format!("`dt` × steps = {end:.3e} s: the run would end past {TIME_LIMIT:.0e} s, beyond the numbers a run may write"),
+        ));
+    }
     if sim.every == Some(0) {
         return Err((
             "every",

@@ -333,6 +333,48 @@ impl Collider {
         })
     }
 
+    /// Refuse a collider whose surface lies farther than `max_distance`
+    /// (m) from the origin at a keyframe of its path (a plane's distance
+    /// `|n·p|`, a sphere's `||c| − r|`), or whose penalty stiffness could
+    /// hold more than [`crate::error::ENERGY_LIMIT`] at a depth of
+    /// `2 max_distance` (the deepest a particle within the world can be
+    /// below a surface that reaches it): the same bound as a spring's.
+    pub fn validate_within(&self, max_distance: Real) -> Result<(), BuildError> {
+        let offsets = match &self.path {
+            Some(path) => path.offsets(),
+            None => vec![Vec3::ZERO],
+        };
+        for (index, offset) in offsets.into_iter().enumerate() {
+            let (field, distance) = match self.shape {
+                Shape::Plane { point, normal } => ("point", normal.dot(point + offset).abs()),
+                Shape::Sphere { centre, radius } => {
+                    ("centre", ((centre + offset).length() - radius).abs())
+                }
+            };
+            if distance.is_nan() || distance > max_distance {
+                return Err(BuildError::BeyondLimit {
+                    field,
+                    index,
+                    value: distance,
+                    limit: max_distance,
+                });
+            }
+        }
+        if let ContactResponse::Penalty { stiffness, .. } = self.response {
+            let depth = 2.0 * max_distance;
+            let energy = 0.5 * stiffness * depth * depth;
+            if energy.is_nan() || energy >= crate::error::ENERGY_LIMIT {
+                return Err(BuildError::EnergyOverflow {
+                    field: "penalty_stiffness",
+                    index: 0,
+                    value: stiffness,
+                    energy,
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// The same collider moving along `path` (its shape translated by the
     /// path's displacement at each time).
     ///

@@ -78,7 +78,13 @@ impl Path {
         Some(next - 1)
     }
 
-    /// Displacement at `time` (m): linear between keyframes, held outside.
+    /// The keyframes' displacements (m), in order.
+    pub fn offsets(&self) -> Vec<Vec3> {
+        self.keyframes.iter().map(|&(_, offset)| offset).collect()
+    }
+
+    /// The displacement (m) at time `time` (s): linear between keyframes,
+    /// held before the first and after the last.
     pub fn offset_at(&self, time: Real) -> Vec3 {
         match self.segment(time) {
             Some(k) => {

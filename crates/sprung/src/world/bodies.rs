@@ -181,6 +181,16 @@ impl World {
         }
         for (index, s) in data.springs.iter().enumerate() {
             let reach = 2.0 * limits.max_distance;
+            // Its ends within the world, a spring longer at rest than the
+            // world is wide would hold more than the bound below allows.
+            if let Some(value) = s.rest_length.filter(|&l| l > reach) {
+                return Err(BuildError::BeyondLimit {
+                    field: "rest_lengths",
+                    index,
+                    value,
+                    limit: reach,
+                });
+            }
             let energy = 0.5 * s.stiffness * reach * reach;
             if let Some(error) = overflow("stiffness", index, s.stiffness, energy) {
                 return Err(error);

@@ -118,7 +118,27 @@ impl World {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(StepError::InvalidTimeStep { dt });
         }
+        // Finite in, finite out: the clock too.
+        let time = self.time + dt;
+        if !time.is_finite() {
+            return Err(self.not_finite("time", time, dt));
+        }
         self.validate_settings().map_err(StepError::InvalidSettings)
+    }
+
+    /// The error for a reported `quantity` (named as its column) whose
+    /// `value` is not finite, at the world's step and time, stepping by
+    /// `dt` (s): what a writer of rows or frames returns instead of writing
+    /// it.
+    pub fn not_finite(&self, quantity: &str, value: Real, dt: Real) -> StepError {
+        StepError::NotFinite {
+            step: self.steps,
+            time: self.time,
+            quantity: quantity.to_string(),
+            value,
+            dt,
+            stable_dt: self.stable_time_step(),
+        }
     }
 
     /// The guard stage of a step of `dt` (s) whose integrator reported
@@ -265,6 +285,9 @@ impl World {
         self.contacts
             .settings
             .validate_within(self.settings.max_distance, self.settings.max_speed)?;
+        for collider in &self.colliders {
+            collider.validate_within(self.settings.max_distance)?;
+        }
         if self.settings.substeps == Substeps::Fixed(0) {
             return Err(BuildError::OutOfRange {
                 field: "substeps",

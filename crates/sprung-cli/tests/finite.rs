@@ -1,0 +1,106 @@
+//! Finite in, finite out: scene values whose combination could overflow
+//! are refused up front with the file, line and key, by the one bound the
+//! energies keep to (lengths within the world's reach, colliders within
+//! the world, the clock within 1e290 s); and a row that would still hold a
+//! non-finite number stops the run as a blow-up (status 3) with nothing
+//! non-finite written.
+
+mod common;
+
+use std::path::Path;
+
+use common::{sprung, text, write};
+
+/// Run `scene` (written as `s.toml`) in `dir` with `extra` arguments;
+/// returns the status and the error.
+fn run(dir: &Path, scene: &str, extra: &[&str]) -> (Option<i32>, String) {
+    write(dir, "s.toml", scene);
+    let args = [&["run", "s.toml", "--out", "o"][..], extra].concat();
+    let output = sprung(&args, dir);
+    (output.status.code(), text(&output.stderr))
+}
+
+/// No number in any file of `dir/o` is infinite or NaN.
+fn all_finite(dir: &Path) {
+    let Ok(entries) = std::fs::read_dir(dir.join("o")) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        if let Ok(text) = std::fs::read_to_string(entry.path()) {
+            for word in text.split(|c: char| c == ',' || c.is_whitespace()) {
+                let lower = word.to_ascii_lowercase();
+                assert!(
+                    !(lower == "inf" || lower == "-inf" || lower == "nan"),
+                    "{}: {word}",
+                    entry.path().display()
+                );
+            }
+        }
+    }
+}
+
+const PAIR_2D: &str = "[sim]\ndt = 1e-3\nsteps = 5\n\n[[body]]\nname = \"c\"\nparticles = [[0.0, 0.0], [0.0, -1.0]]\nsprings = [[0, 1]]\nrest_lengths = [1e160]\npinned = [0]\n";
+
+#[test]
+fn a_rest_length_beyond_the_world_is_refused_on_its_line() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (code, stderr) = run(dir.path(), PAIR_2D, &[]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("s.toml:9: body \"c\": `rest_lengths`[0]: 1.000e160 is beyond the world's limit 2.000e6"), "{stderr}");
+    assert!(!dir.path().join("o").exists());
+}
+
+#[test]
+fn a_collider_beyond_the_world_or_too_stiff_for_it_is_refused() {
+    let cloth = "[sim]\ndt = 1e-3\nsteps = 5\n\n[[body]]\nname = \"cl\"\ncloth = { nx = 4, ny = 4, width = 1.0, height = 1.0 }\nstiffness = 1000.0\n\n[[collider]]\n";
+    let dir = tempfile::tempdir().expect("tempdir");
+    let far = format!("{cloth}plane = {{ point = [0, 1e300, 0], normal = [0, 1, 0] }}\n");
+    let (code, stderr) = run(dir.path(), &far, &[]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(
+        stderr.contains(
+            "s.toml:11: collider: `point`[0]: 1.000e300 is beyond the world's limit 1.000e6"
+        ),
+        "{stderr}"
+    );
+    // Within the world, but a penalty of 1e300 N/m at a depth of 2e6 m
+    // would hold 2e312 J.
+    let stiff = format!(
+        "{cloth}plane = {{ point = [0, 0, 0], normal = [0, 1, 0] }}\npenalty_stiffness = 1e300\n"
+    );
+    let (code, stderr) = run(dir.path(), &stiff, &[]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(
+        stderr.contains("s.toml:12: collider: `penalty_stiffness`[0] = 1.000e300: too large"),
+        "{stderr}"
+    );
+    // A sphere whose surface passes far from the world.
+    let sphere = format!("{cloth}sphere = {{ centre = [0, 0, 0], radius = 1e9 }}\n");
+    let (code, stderr) = run(dir.path(), &sphere, &[]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(
+        stderr.contains("s.toml:11: collider: `centre`[0]"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("o").exists());
+}
+
+#[test]
+fn a_clock_that_would_overflow_is_refused_or_stopped() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    let pair = |dt: &str| {
+        format!("[sim]\ndt = {dt}\nsteps = 3\n\n[[body]]\nname = \"c\"\nparticles = [[0.0, 0.0, 0.0], [0.0, -1.0, 0.0]]\nsprings = [[0, 1]]\npinned = [0]\n")
+    };
+    // 3 steps of 1e308 s end past any finite time: refused up front.
+    let (code, stderr) = run(d, &pair("1e308"), &[]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("s.toml:2: `dt` × steps"), "{stderr}");
+    assert!(!d.join("o").exists());
+    // Allowed, but the first step throws the bob out of the world: a
+    // blow-up (status 3), and the rows written so far hold finite numbers.
+    let (code, stderr) = run(d, &pair("1e280"), &[]);
+    assert_eq!(code, Some(3), "{stderr}");
+    assert!(stderr.contains("simulation blew up at step 1"), "{stderr}");
+    all_finite(d);
+}
