@@ -15,31 +15,16 @@ use sprung_io::{load_scene_overridden, Override};
 use crate::bench::memory;
 use crate::run::CliError;
 
-/// Bytes per particle of the world's state (position, velocity, force,
-/// mass, inverse mass), and of an integrator's scratch at most (RK4:
-/// five more three-vectors).
-const PARTICLE_BYTES: u64 = 3 * 24 + 2 * 8 + 5 * 24;
-/// Bytes per spring (two `u32` ends, rest length, stiffness, damping, a
-/// flag) and its share of the force schedule.
-const SPRING_BYTES: u64 = 4 + 4 + 3 * 8 + 1 + 8;
-
-/// Bytes per candidate contact pair (a particle and a triangle, or two
-/// edges: about 48 bytes) while the detect stage puts them in order: the
-/// pairs, each search chunk's copy and the buckets' copy.
-const PAIR_BYTES: u64 = 3 * 48;
-
 /// Check the scene at `path` with `overrides` applied: exit status 0 when
 /// it loads, 1 (with the error) when it does not.
 pub fn run(path: &Path, overrides: &[Override]) -> Result<(), CliError> {
     let loading = memory::mark();
-    let scene = load_scene_overridden(path, overrides)?;
+    let before = memory::in_use();
+    let mut scene = load_scene_overridden(path, overrides)?;
     let load_peak = loading.peak();
     let world = &scene.world;
     let faces: usize = world.bodies.iter().map(|b| b.faces.len()).sum();
     let segments: usize = world.bodies.iter().map(|b| b.segments.len()).sum();
-    let bytes = world.particles.len() as u64 * PARTICLE_BYTES
-        + world.springs.len() as u64 * SPRING_BYTES
-        + (faces * 12 + segments * 8) as u64;
     println!("{}: loads", path.display());
     println!(
         "  {} bodies, {} particles, {} springs, {} faces, {} segments, {} rods, {} muscles, {} rigid",
@@ -55,17 +40,11 @@ pub fn run(path: &Path, overrides: &[Override]) -> Result<(), CliError> {
     let pairs = world
         .contact_pairs_now(scene.dt)
         .map_err(|e| CliError::Input(e.to_string()))?;
-    // A candidate pair and its copies while the pairs are put in order.
-    let pair_bytes = pairs as u64 * PAIR_BYTES;
-    println!(
-        "  memory while running: about {:.1} MB{}",
-        (bytes + pair_bytes) as f64 / 1e6,
-        if pairs > 0 {
-            format!(" ({pairs} candidate contact pairs at the start: about {:.1} MB of it; more where bodies press together)", pair_bytes as f64 / 1e6)
-        } else {
-            String::new()
-        }
-    );
+    if pairs > 0 {
+        println!(
+            "  {pairs} candidate contact pairs at the start (more where bodies press together)"
+        );
+    }
     let file_bytes = std::fs::metadata(path).map_or(0, |m| m.len());
     println!(
         "  memory while loading: {:.1} MB at most (the file: {:.1} MB)",
@@ -127,8 +106,31 @@ pub fn run(path: &Path, overrides: &[Override]) -> Result<(), CliError> {
     for warning in scene.warnings.iter().chain(&start_warnings(world)) {
         eprintln!("warning: {warning}");
     }
+    // Measured, not estimated: the heap of the world as loaded, then the
+    // peak over its first steps (the schedules, the integrator's and the
+    // contacts' buffers are made there), and the loading's own peak, which
+    // a run's process keeps (freed memory is not handed back).
+    let resident = memory::in_use().saturating_sub(before);
+    let stepping = memory::mark();
+    for _ in 0..STEPS_MEASURED {
+        if scene.world.step(scene.dt).is_err() {
+            break;
+        }
+    }
+    let running = resident + stepping.peak();
+    println!(
+        "  memory while running: about {:.1} MB (the world {:.1} MB, its first steps {:.1} MB more; at least the loading's {:.1} MB; frames add their own buffers)",
+        running.max(load_peak) as f64 / 1e6,
+        resident as f64 / 1e6,
+        stepping.peak() as f64 / 1e6,
+        load_peak as f64 / 1e6,
+    );
     Ok(())
 }
+
+/// Steps `check` takes to measure a run's memory: the first builds the
+/// schedules and buffers, the second uses them.
+const STEPS_MEASURED: usize = 2;
 
 /// What a user should know before running `world` that is not an error:
 /// bodies that start inside a collider, bodies the wind cannot touch,

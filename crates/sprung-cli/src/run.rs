@@ -254,6 +254,10 @@ pub fn run_scene(
     }
     if options.profile {
         println!("{}", scene.world.profile());
+        println!(
+            "heap peak: {:.1} MB (the most the process held at once)",
+            crate::bench::memory::peak() as f64 / 1e6
+        );
     }
     if !options.quiet {
         println!(

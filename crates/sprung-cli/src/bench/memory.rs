@@ -68,6 +68,17 @@ pub fn allocated() -> usize {
     ALLOCATED.load(Ordering::Relaxed)
 }
 
+/// Bytes on the heap now.
+pub fn in_use() -> usize {
+    IN_USE.load(Ordering::Relaxed)
+}
+
+/// The most bytes on the heap at once since the process started (or since
+/// the last [`mark`], which resets it to what was in use then).
+pub fn peak() -> usize {
+    PEAK.load(Ordering::Relaxed)
+}
+
 /// A point to measure heap use from.
 #[derive(Debug, Clone, Copy)]
 pub struct Mark {

@@ -1,0 +1,57 @@
+//! `sprung check`'s figure of the memory a run takes is measured (the
+//! world as loaded, its first steps, the loading's peak), and agrees with
+//! the heap peak the run itself reports (`--profile`) to within 25 %.
+
+mod common;
+
+use common::{sprung, text, write};
+
+/// The first number (MB) after `label` in `output`.
+fn megabytes(output: &str, label: &str) -> f64 {
+    let line = output
+        .lines()
+        .find(|l| l.contains(label))
+        .unwrap_or_else(|| panic!("no {label:?} in {output}"));
+    let rest = &line[line.find(label).unwrap() + label.len()..];
+    let number: String = rest
+        .trim_start_matches(|c: char| !c.is_ascii_digit())
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || *c == '.')
+        .collect();
+    number.parse().expect("a number")
+}
+
+#[test]
+fn check_measures_the_memory_a_run_takes() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    // Many bodies that touch: 100 small cloths in a stack, falling onto
+    // each other (candidate contact pairs, their schedules, the guarantee's
+    // buffers), and 100 gas balls beside them.
+    let mut scene = String::from("[sim]\ndt = 5e-4\nsteps = 3\nintegrator = \"rk4\"\n");
+    for i in 0..100 {
+        scene.push_str(&format!(
+            "\n[[body]]\nname = \"c{i}\"\ncloth = {{ nx = 12, ny = 12, width = 1.0, height = 1.0 }}\nstiffness = 100.0\nrotate = [90.0, 0.0, 0.0]\ntranslate = [0.0, {}, 0.0]\n",
+            f64::from(i) * 0.01
+        ));
+        scene.push_str(&format!(
+            "\n[[body]]\nname = \"b{i}\"\nsphere = {{ radius = 0.1, subdivisions = 2 }}\nstiffness = 100.0\ngas = {{ nrt = 1.0 }}\ntranslate = [{}, 0.0, 3.0]\n",
+            f64::from(i) * 0.3
+        ));
+    }
+    write(d, "many.toml", &scene);
+    let check = sprung(&["check", "many.toml"], d);
+    assert!(check.status.success(), "{}", text(&check.stderr));
+    let estimate = megabytes(&text(&check.stdout), "memory while running:");
+    let run = sprung(
+        &["run", "many.toml", "--out", "o", "--profile", "--quiet"],
+        d,
+    );
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let peak = megabytes(&text(&run.stdout), "heap peak:");
+    assert!(peak > 10.0, "a scene of {peak} MB is too small to tell");
+    assert!(
+        (estimate - peak).abs() <= 0.25 * peak,
+        "check said {estimate} MB, the run's heap peaked at {peak} MB"
+    );
+}
