@@ -174,8 +174,11 @@ impl App {
             self.open(Source::Demo(index), None);
         }
         let upload = probe::lock().scene_request.take();
-        if let Some(upload) = upload {
-            self.open(Source::Upload(std::sync::Arc::new(upload)), None);
+        if let Some((upload, reload)) = upload {
+            let settings = reload
+                .then(|| self.sim.as_ref().map(|s| s.settings))
+                .flatten();
+            self.open(Source::Upload(std::sync::Arc::new(upload)), settings);
         }
         let viewport = self.viewport();
         let panel = Rect::new(0.0, 0.0, PANEL_WIDTH, screen_height());
@@ -211,14 +214,16 @@ impl App {
         clear_background(palette::BACKGROUND);
         let Some(sim) = self.sim.as_ref() else {
             render2d::veil(viewport);
-            let text = self.error.as_deref().unwrap_or("");
-            let hint = "Pick a demo in the panel (or press Tab); fix the file and press R to load it again.";
-            render::message(
-                viewport,
-                "This scene cannot be loaded",
-                &format!("{text}\n\n{hint}"),
-                palette::ERROR,
-            );
+            // On the web the page shows it, in its one message box.
+            if !cfg!(target_arch = "wasm32") {
+                let text = self.error.as_deref().unwrap_or("");
+                render::message(
+                    viewport,
+                    "This scene cannot be loaded",
+                    &format!("{text}\n\n{LOAD_HINT}"),
+                    palette::ERROR,
+                );
+            }
             return;
         };
         let world = &sim.world;
@@ -242,12 +247,11 @@ impl App {
             render::hover(particle);
         }
         crate::hud::draw(self, viewport);
-        if let Some(failure) = &sim.failure {
-            let hint = "Press R to start again; a smaller time step ([) or a stabler integrator (I) may hold.";
+        if let (Some(failure), false) = (&sim.failure, cfg!(target_arch = "wasm32")) {
             render::message(
                 viewport,
                 "The simulation blew up",
-                &format!("{failure}\n\n{hint}"),
+                &format!("{failure}\n\n{BLOW_UP_HINT}"),
                 palette::ERROR,
             );
         }
@@ -261,13 +265,16 @@ impl App {
         probe.cursor = to_f64_array(self.cursor_world);
         probe.demo = self.source.demo();
         probe.error = self.error.is_some();
-        probe.message = self.error.clone().unwrap_or_default();
+        probe.message = match &self.error {
+            Some(error) => format!("{error}\n{LOAD_HINT}"),
+            None => String::new(),
+        };
         probe.positions.clear();
         probe.screen.clear();
         if let Some(sim) = &self.sim {
             probe.error |= sim.failure.is_some();
             if let Some(failure) = &sim.failure {
-                probe.message = failure.clone();
+                probe.message = format!("{failure}\n{BLOW_UP_HINT}");
             }
             probe.time = sim.world.time();
             for &p in &sim.world.particles.position {
@@ -325,6 +332,15 @@ pub fn scale_dt(sim: &mut Sim, factor: f64) {
 
 /// Say why a scene did not load where the user will see it: the terminal
 /// natively, the browser's console on the web.
+/// What to do about a scene that did not load (R reads it again from
+/// where it came: the file, or on the web its address or picked file).
+const LOAD_HINT: &str =
+    "Pick a demo in the panel (or press Tab); fix the file and press R to load it again.";
+
+/// What to do after a blow-up.
+const BLOW_UP_HINT: &str =
+    "Press R to start again; a smaller time step ([) or a stabler integrator (I) may hold.";
+
 fn report(message: &str) {
     #[cfg(not(target_arch = "wasm32"))]
     eprintln!("sprung-viewer: cannot load the scene: {message}");

@@ -7,7 +7,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use sprung_io::demos::{Bundled, DEMOS};
+use sprung_io::demos::DEMOS;
 use sprung_io::{parse_scene_with, Disk, FileSource, Scene};
 
 /// A scene handed over by the web page: its file name, its text, and the
@@ -24,8 +24,10 @@ pub struct Upload {
 
 impl FileSource for Upload {
     /// A file that came with the scene, by its path or else by its name
-    /// alone (a dropped `horse.obj` serves `meshes/horse.obj`); else one of
-    /// the meshes built into sprung.
+    /// alone (a dropped `horse.obj` serves `meshes/horse.obj`). Nothing
+    /// else: a mesh the scene names and that did not come with it is an
+    /// error on the scene's line, as `sprung check` makes it (the meshes
+    /// built into sprung serve the demos, which are opened by name).
     fn read(&self, path: &Path) -> io::Result<Vec<u8>> {
         let wanted = path.to_string_lossy();
         let name = path.file_name().map(|n| n.to_string_lossy());
@@ -40,16 +42,14 @@ impl FileSource for Upload {
             });
         match found {
             Some((_, bytes)) => Ok(bytes.clone()),
-            None => Bundled.read(path).map_err(|_| {
-                io::Error::new(
-                    io::ErrorKind::NotFound,
-                    format!(
-                        "{} was not given with the scene (open or drop it together with {}) and is not one of the meshes built into sprung",
-                        path.display(),
-                        self.name
-                    ),
-                )
-            }),
+            None => Err(io::Error::new(
+                io::ErrorKind::NotFound,
+                format!(
+                    "{} is not there: a scene opened by its address finds its meshes beside it; a picked or dropped one needs them picked or dropped together with {}",
+                    path.display(),
+                    self.name
+                ),
+            )),
         }
     }
 }
@@ -136,18 +136,33 @@ mod tests {
     }
 
     #[test]
-    fn an_upload_finds_its_meshes_by_path_or_name_then_built_in() {
+    fn an_upload_finds_its_meshes_by_path_or_name_and_nowhere_else() {
         let cube = std::fs::read("../../scenes/meshes/cube.asc").expect("cube");
         let upload = Upload {
             name: "mine.toml".into(),
-            text: b"[sim]\ndt = 1e-3\n\n[[body]]\nname = \"a\"\nmesh = \"shapes/box.asc\"\n\n[[body]]\nname = \"b\"\nmesh = \"meshes/horse.obj\"\nscale = 5.0\ntranslate = [3.0, 0.0, 0.0]\n".to_vec(),
+            text: b"[sim]\ndt = 1e-3\n\n[[body]]\nname = \"a\"\nmesh = \"shapes/box.asc\"\n"
+                .to_vec(),
             files: vec![("box.asc".into(), cube)],
         };
         let scene = Source::Upload(Arc::new(upload.clone()))
             .load()
             .expect("loads");
         assert_eq!(scene.world.body("a").expect("a").particles.len(), 8);
-        assert_eq!(scene.world.body("b").expect("b").particles.len(), 4002);
+        // A mesh of the same name as one built into sprung, not given:
+        // an error on its line, as from the command line.
+        let horse = Upload {
+            text: b"[sim]\ndt = 1e-3\n\n[[body]]\nname = \"b\"\nmesh = \"meshes/horse.obj\"\n"
+                .to_vec(),
+            ..upload.clone()
+        };
+        let error = Source::Upload(Arc::new(horse))
+            .load()
+            .err()
+            .unwrap_or_default();
+        assert!(
+            error.contains("mine.toml:6") && error.contains("meshes/horse.obj is not there"),
+            "{error}"
+        );
         let missing = Upload {
             files: Vec::new(),
             ..upload

@@ -9,6 +9,7 @@ use macroquad::math::{vec2, Rect, Vec2, Vec3};
 
 use crate::app::{cycle_integrator, scale_dt, App};
 use crate::camera::View;
+use crate::demos::Source;
 use crate::hand::pick;
 
 impl App {
@@ -20,7 +21,10 @@ impl App {
             let back = shift || is_key_pressed(KeyCode::PageUp);
             self.next_scene(if back { -1 } else { 1 });
         }
-        if pressed(&[KeyCode::R]) {
+        // On the web, R on a scene the page handed over is the page's: it
+        // reads the scene again from where it came (its address or file).
+        let page_reloads = cfg!(target_arch = "wasm32") && matches!(self.source, Source::Upload(_));
+        if pressed(&[KeyCode::R]) && !page_reloads {
             self.reset();
         }
         if pressed(&[KeyCode::H]) {

@@ -41,8 +41,9 @@ pub struct Probe {
     pub demo: Option<usize>,
     /// A demo the page asked for, taken by the next frame.
     pub request: Option<usize>,
-    /// A scene the page handed over, taken by the next frame.
-    pub scene_request: Option<Upload>,
+    /// A scene the page handed over, taken by the next frame, and whether
+    /// it is the one shown read again (keeping the settings, as a reset).
+    pub scene_request: Option<(Upload, bool)>,
     /// The error on the screen, as text (empty when there is none).
     pub message: String,
 }
@@ -226,11 +227,23 @@ pub extern "C" fn sprung_stage_file(name_len: u32) -> i32 {
 /// from the next frame; 1 if it was taken, 0 if its name is not UTF-8.
 #[no_mangle]
 pub extern "C" fn sprung_open_staged_scene(name_len: u32) -> i32 {
+    take_staged_scene(name_len, false)
+}
+
+/// As [`sprung_open_staged_scene`], for the scene shown read again from
+/// where it came (R on the page): the settings (integrator, time step,
+/// speed) are kept, as a reset keeps them.
+#[no_mangle]
+pub extern "C" fn sprung_reload_staged_scene(name_len: u32) -> i32 {
+    take_staged_scene(name_len, true)
+}
+
+fn take_staged_scene(name_len: u32, reload: bool) -> i32 {
     let mut staging = staging();
     let files = std::mem::take(&mut staging.files);
     match staged(&mut staging.buffer, name_len) {
         Some((name, text)) => {
-            lock().scene_request = Some(Upload { name, text, files });
+            lock().scene_request = Some((Upload { name, text, files }, reload));
             1
         }
         None => 0,
@@ -287,12 +300,19 @@ mod tests {
         assert_eq!(sprung_stage_file(name), 1);
         let name = stage("mine.toml", b"[sim]\ndt = 1e-3\n");
         assert_eq!(sprung_open_staged_scene(name), 1);
-        let upload = lock().scene_request.take().expect("a request");
+        let (upload, reload) = lock().scene_request.take().expect("a request");
+        assert!(!reload);
         assert_eq!(upload.name, "mine.toml");
         assert_eq!(upload.text, b"[sim]\ndt = 1e-3\n");
         assert_eq!(
             upload.files,
             vec![("box.asc".to_string(), b"mesh bytes".to_vec())]
         );
+        // Read again (R on the page): the files staged since, and a reload.
+        let name = stage("mine.toml", b"[sim]\ndt = 2e-3\n");
+        assert_eq!(sprung_reload_staged_scene(name), 1);
+        let (upload, reload) = lock().scene_request.take().expect("a request");
+        assert!(reload && upload.files.is_empty());
+        assert_eq!(upload.text, b"[sim]\ndt = 2e-3\n");
     }
 }

@@ -138,6 +138,15 @@ fn a_users_scene_opens_through_the_picker_and_the_address() {
     std::fs::create_dir_all(scenes.join("meshes")).expect("scenes folder");
     std::fs::write(scenes.join("mine.toml"), MINE).expect("scene");
     std::fs::write(scenes.join("broken.toml"), BROKEN).expect("scene");
+    // Broken on line 6 too, until scene.mjs mends it and presses R.
+    std::fs::write(scenes.join("fix.toml"), BROKEN).expect("scene");
+    // Names a mesh that is not served (though one of that name is built
+    // into sprung): an error on line 6.
+    std::fs::write(
+        scenes.join("nomesh.toml"),
+        "[sim]\ndt = 1e-3\n\n[[body]]\nname = \"horse\"\nmesh = \"meshes/horse.obj\"\n",
+    )
+    .expect("scene");
     let cube = std::fs::read(root().join("scenes/meshes/cube.asc")).expect("the cube");
     // Picked beside the scene, and served where the scene says it is.
     std::fs::write(scenes.join("box.asc"), &cube).expect("mesh");

@@ -4,11 +4,17 @@
 //      has the scene's particle count, time advances and a particle falls;
 //   2. `#scene=URL` loads a scene served beside the page, its mesh
 //      fetched relative to it;
-//   3. a broken scene shows an error on the page with its file and line;
-//   4. an unknown `#name` shows a message listing the demos.
+//   3. a broken scene shows an error on the page with its file and line,
+//      in one box (the page's: the canvas draws none), once;
+//   4. a served scene with an error, fixed on the disk, is fetched again
+//      by R and runs;
+//   5. a served scene naming a mesh that is not there is an error on its
+//      line (not one of sprung's built-in meshes of the same name);
+//   6. an unknown `#name` shows a message listing the demos.
 //
 // usage: node scene.mjs WEB_DIR SCENES_DIR
-// SCENES_DIR holds mine.toml, its mesh box.asc and broken.toml (the Rust
+// SCENES_DIR holds mine.toml, its mesh box.asc, broken.toml, fix.toml
+// (broken on line 6 until this script mends it) and nomesh.toml (the Rust
 // test writes them); it is served at /user/. Prints one line of JSON with
 // what it measured; exits 1 on a failure.
 
@@ -88,6 +94,40 @@ async function main() {
     await waitForFrames(page, 5, problems);
     result.url = await runsScene(page, 12, "#scene=user/mine.toml");
 
+    // A served scene with an error on line 6, then mended on the disk (5
+    // free particles, which fall): R fetches it again and it runs.
+    await page.goto(`http://127.0.0.1:${port}/#scene=user/fix.toml`);
+    await waitForFrames(page, 5, problems);
+    await page.waitForFunction(() => wasm_exports.sprung_error() === 1, null, { timeout: 30_000 })
+      .catch(() => fail("fix.toml shows no error"));
+    await page.waitForFunction(
+      () => !document.getElementById("message").hidden, null, { timeout: 10_000 },
+    ).catch(() => fail("fix.toml's error is not on the page"));
+    const unfixed = await messageText(page);
+    if (unfixed.split("fix.toml:6:").length !== 2) fail(`fix.toml's error is not shown once: ${unfixed}`);
+    if (!unfixed.includes("press R to load it again")) fail(`no hint to press R: ${unfixed}`);
+    fs.writeFileSync(path.join(scenesDir, "fix.toml"),
+      "[sim]\ndt = 1e-3\nduration = 100.0\n\n[[body]]\nname = \"pair\"\n" +
+      "particles = [[0.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.5, 1.5, 0.0], [0.0, 2.0, 0.0], [1.0, 2.0, 0.0]]\n" +
+      "springs = [[0, 1], [1, 2], [2, 3], [3, 4]]\nmass = 0.1\n");
+    await page.keyboard.press("r");
+    result.fixed = await runsScene(page, 5, "fix.toml read again with R");
+    if (await messageText(page) !== "") fail(`a message stays after the fix: ${await messageText(page)}`);
+
+    // A served scene naming a mesh the server does not have.
+    await page.goto(`http://127.0.0.1:${port}/#scene=user/nomesh.toml`);
+    await waitForFrames(page, 5, problems);
+    await page.waitForFunction(() => wasm_exports.sprung_error() === 1, null, { timeout: 30_000 })
+      .catch(() => fail("a missing mesh shows no error"));
+    await page.waitForFunction(
+      () => !document.getElementById("message").hidden, null, { timeout: 10_000 },
+    ).catch(() => fail("the missing mesh's error is not on the page"));
+    const nomesh = await messageText(page);
+    if (!/nomesh\.toml:6:/.test(nomesh) || !nomesh.includes("meshes/horse.obj")) {
+      fail(`the missing mesh's error does not give nomesh.toml, line 6 and the mesh: ${nomesh}`);
+    }
+    result.nomesh = nomesh;
+
     // An unknown demo.
     await page.goto(`http://127.0.0.1:${port}/#nosuch`);
     await waitForFrames(page, 5, problems);
@@ -100,7 +140,11 @@ async function main() {
     }
     result.unknown = unknown;
     // The viewer logs the broken scene's error to the console too: expected.
-    const unexpected = problems.filter((p) => !p.includes("cannot load the scene: broken.toml"));
+    // So do the other scenes with an error, and the browser the missing
+    // mesh's 404.
+    const expected = ["cannot load the scene: broken.toml", "cannot load the scene: fix.toml",
+      "cannot load the scene: nomesh.toml", "404"];
+    const unexpected = problems.filter((p) => !expected.some((e) => p.includes(e)));
     if (unexpected.length) fail(unexpected.join("; "));
     console.log(JSON.stringify(result));
   } finally {
