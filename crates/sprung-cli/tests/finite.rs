@@ -105,6 +105,66 @@ fn a_clock_that_would_overflow_is_refused_or_stopped() {
     all_finite(d);
 }
 
+/// The state saved in `dir/o/s.bin`, if any, holds finite numbers in every
+/// entry a state has (read back against the scene's world).
+fn state_finite(dir: &Path, case: usize) -> bool {
+    let path = dir.join("o/s.bin");
+    if !path.exists() {
+        return false;
+    }
+    let scene = sprung_io::load_scene(&dir.join("s.toml")).expect("the scene that ran");
+    let state = sprung_io::state::read_state(&path, &scene.world)
+        .unwrap_or_else(|e| panic!("case {case}: the saved state does not read back: {e}"));
+    let names = [
+        "position",
+        "velocity",
+        "time",
+        "steps",
+        "run.dt",
+        "run.every",
+        "run.rows",
+        "rk45.next_step",
+        "verlet.last_dt",
+        "verlet.previous_position",
+        "verlet.written_position",
+        "verlet.written_velocity",
+        "contact.searched_at",
+    ];
+    for name in names {
+        if let Ok(values) = state.get_any(name) {
+            assert!(
+                values.iter().all(|v| v.is_finite()),
+                "case {case}: the state's {name} holds a non-finite number"
+            );
+        }
+    }
+    true
+}
+
+/// The glTF animation in `dir/o`, if any: no non-finite `f32` in its
+/// binary chunk (positions, normals, times, weights; its `u32` indices are
+/// far below the bit patterns of inf and NaN) and none in its JSON.
+fn glb_finite(dir: &Path, case: usize) -> bool {
+    let Ok(bytes) = std::fs::read(dir.join("o/animation.glb")) else {
+        return false;
+    };
+    let glb = gltf::Glb::from_slice(&bytes).expect("a glb");
+    let json = String::from_utf8_lossy(&glb.json).to_ascii_lowercase();
+    assert!(
+        !json.contains("nan") && !json.contains("inf"),
+        "case {case}: {json}"
+    );
+    let bin = glb.bin.expect("its buffer");
+    for word in bin.chunks_exact(4) {
+        let value = f32::from_le_bytes([word[0], word[1], word[2], word[3]]);
+        assert!(
+            value.is_finite(),
+            "case {case}: the animation holds {value}"
+        );
+    }
+    true
+}
+
 /// A small deterministic generator (xorshift64*): the same scenes every
 /// run, so a failure names a scene that can be run again.
 struct Draw(u64);
@@ -137,14 +197,17 @@ impl Draw {
 
 /// Scenes with every numeric key drawn, now and then, from ±1e±300: each
 /// is refused (status 1), stopped as a blow-up (3) or runs (0), and no
-/// number in any file it wrote (the diagnostics, the VTU frames, the
-/// series file) is infinite or NaN.
+/// number in any file it wrote (the diagnostics, the VTU frames and series
+/// file with the saved state, or the glTF animation, every other case) is
+/// infinite or NaN.
 #[test]
 fn extreme_finite_values_never_write_a_non_finite_number() {
     let dir = tempfile::tempdir().expect("tempdir");
     let d = dir.path();
     let mut draw = Draw(0x5eed_1234_abcd_0001);
     let mut outcomes = [0usize; 4];
+    // States and animations read back.
+    let mut checked = (0, 0);
     for case in 0..300 {
         let mut v = |sane: f64| draw.value(sane);
         let scene = format!(
@@ -169,12 +232,14 @@ fn extreme_finite_values_never_write_a_non_finite_number() {
         );
         write(d, "s.toml", &scene);
         let _ = std::fs::remove_dir_all(d.join("o"));
-        let output = sprung(
-            &[
-                "run", "s.toml", "--out", "o", "--format", "vtu", "--every", "5",
-            ],
-            d,
-        );
+        // Frames as VTU with a saved state, or as one glTF animation.
+        let format: &[&str] = if case % 2 == 0 {
+            &["--format", "vtu", "--save-state", "o/s.bin"]
+        } else {
+            &["--format", "gltf"]
+        };
+        let args = [&["run", "s.toml", "--out", "o", "--every", "5"][..], format].concat();
+        let output = sprung(&args, d);
         let code = output.status.code();
         assert!(
             matches!(code, Some(0 | 1 | 3)),
@@ -183,6 +248,8 @@ fn extreme_finite_values_never_write_a_non_finite_number() {
         );
         outcomes[code.unwrap_or(2) as usize] += 1;
         all_finite(d);
+        checked.0 += usize::from(state_finite(d, case));
+        checked.1 += usize::from(glb_finite(d, case));
         let frames = d.join("o/frames");
         if let Ok(entries) = std::fs::read_dir(&frames) {
             for entry in entries.flatten() {
@@ -200,7 +267,9 @@ fn extreme_finite_values_never_write_a_non_finite_number() {
             }
         }
     }
-    // The draw reaches all three outcomes (else it tests too little).
+    // The draw reaches all three outcomes, and states and animations were
+    // written (else it tests too little).
+    assert!(checked.0 > 0 && checked.1 > 0, "{checked:?}");
     assert!(
         outcomes[0] > 0 && outcomes[1] > 0 && outcomes[3] > 0,
         "{outcomes:?}"
