@@ -340,11 +340,10 @@ impl Collider {
     /// `2 max_distance` (the deepest a particle within the world can be
     /// below a surface that reaches it): the same bound as a spring's.
     pub fn validate_within(&self, max_distance: Real) -> Result<(), BuildError> {
-        let offsets = match &self.path {
-            Some(path) => path.offsets(),
-            None => vec![Vec3::ZERO],
-        };
-        for (index, offset) in offsets.into_iter().enumerate() {
+        // The engine checks every step: nothing allocated.
+        let offsets = self.path.iter().flat_map(|path| path.offsets());
+        let offsets = offsets.chain(self.path.is_none().then_some(Vec3::ZERO));
+        for (index, offset) in offsets.enumerate() {
             let (field, distance) = match self.shape {
                 Shape::Plane { point, normal } => ("point", normal.dot(point + offset).abs()),
                 Shape::Sphere { centre, radius } => {

@@ -79,8 +79,8 @@ impl Path {
     }
 
     /// The keyframes' displacements (m), in order.
-    pub fn offsets(&self) -> Vec<Vec3> {
-        self.keyframes.iter().map(|&(_, offset)| offset).collect()
+    pub fn offsets(&self) -> impl Iterator<Item = Vec3> + '_ {
+        self.keyframes.iter().map(|&(_, offset)| offset)
     }
 
     /// The displacement (m) at time `time` (s): linear between keyframes,
