@@ -33,8 +33,17 @@ fn profile_names_every_stage_and_its_shares_add_up() {
     );
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
+    // The table, then the heap's peak on a line of its own.
+    assert!(
+        stdout
+            .lines()
+            .last()
+            .is_some_and(|l| l.starts_with("heap peak: ")),
+        "{stdout}"
+    );
     let rows: Vec<Vec<&str>> = stdout
         .lines()
+        .filter(|line| !line.starts_with("heap peak: "))
         .map(|line| line.split_whitespace().collect())
         .collect();
     let names: Vec<&str> = rows.iter().map(|row| row[0]).collect();
