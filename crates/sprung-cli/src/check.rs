@@ -125,6 +125,15 @@ pub fn run(path: &Path, overrides: &[Override]) -> Result<(), CliError> {
         stepping.peak() as f64 / 1e6,
         load_peak as f64 / 1e6,
     );
+    let guarantee = scene.world.guarantee_memory_most();
+    if guarantee > 0 {
+        println!(
+            "  contacts may add up to {:.1} MB where bodies press together at speed (the pairs the guarantee keeps: {} per element that collides, {} at least)",
+            guarantee as f64 / 1e6,
+            sprung::contact::ccd::KEPT_PAIRS_PER_ELEMENT,
+            sprung::contact::ccd::MIN_KEPT_PAIRS,
+        );
+    }
     Ok(())
 }
 

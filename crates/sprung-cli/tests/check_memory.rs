@@ -1,6 +1,8 @@
 //! `sprung check`'s figure of the memory a run takes is measured (the
 //! world as loaded, its first steps, the loading's peak), and agrees with
-//! the heap peak the run itself reports (`--profile`) to within 25 %.
+//! the heap peak the run itself reports (`--profile`) to within 25 %;
+//! where bodies press together at speed after those steps, it names the
+//! most the guarantee's pairs can add, and the run stays within it.
 
 mod common;
 
@@ -53,5 +55,46 @@ fn check_measures_the_memory_a_run_takes() {
     assert!(
         (estimate - peak).abs() <= 0.25 * peak,
         "check said {estimate} MB, the run's heap peaked at {peak} MB"
+    );
+}
+
+#[test]
+fn check_bounds_the_memory_of_contacts_that_come_later() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    // The bullet demo's ball at 100 m/s, 10 cm above a 30 × 30 cloth:
+    // it reaches the cloth after check's two steps, and the guarantee
+    // then keeps about 1.8 million pairs of elements (tens of MB).
+    let scene = "[sim]\ndt = 2.5e-4\nsteps = 60\nintegrator = \"symplectic_euler\"\n\n\
+        [[body]]\nname = \"ball\"\nsphere = { radius = 0.1, subdivisions = 2 }\n\
+        total_mass = 0.2\nstiffness = 2000.0\ndamping = 0.5\ntranslate = [0.0, 0.3, 0.0]\n\
+        velocity = [0.0, -100.0, 0.0]\ngas = { nrt = 100.0, ramp_time = 0.0 }\n\n\
+        [[body]]\nname = \"cloth\"\ncloth = { nx = 30, ny = 30, width = 1.0, height = 1.0 }\n\
+        total_mass = 0.2\nstiffness = 500.0\ndamping = 0.05\nrotate = [90.0, 0.0, 0.0]\n\
+        translate = [-0.5, 0.0, -0.5]\npinned = [0, 29, 870, 899]\n";
+    write(d, "bullet.toml", scene);
+    let check = sprung(&["check", "bullet.toml"], d);
+    assert!(check.status.success(), "{}", text(&check.stderr));
+    let said = text(&check.stdout);
+    let estimate = megabytes(&said, "memory while running:");
+    let contacts = megabytes(&said, "contacts may add up to");
+    // The bound is 3 × (at least 2 million pairs) × 16 bytes: the
+    // 6,125 elements' 64 each are fewer than the 2 million.
+    assert_eq!(contacts, 96.0, "{said}");
+    let run = sprung(
+        &["run", "bullet.toml", "--out", "o", "--profile", "--quiet"],
+        d,
+    );
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let peak = megabytes(&text(&run.stdout), "heap peak:");
+    // The contacts came after check's steps: the run took more than the
+    // measured figure (so this scene tells), and no more than the bound.
+    assert!(
+        peak > 1.25 * estimate,
+        "the run's {peak} MB against {estimate} MB"
+    );
+    assert!(
+        peak <= estimate + contacts,
+        "the run's heap peaked at {peak} MB, over {estimate} + {contacts} MB"
     );
 }

@@ -2,12 +2,25 @@
 //! colliders ([`crate::contact::ccd`]), over each (sub)step's motion.
 
 use crate::colliders::Shape;
-use crate::contact::ccd::{sweep_colliders, CcdReport, Motion};
+use crate::contact::ccd::{kept_pairs_most_bytes, sweep_colliders, CcdReport, Motion};
 use crate::Real;
 
 use super::World;
 
 impl World {
+    /// The most memory (bytes) the guarantee keeps for the pairs of
+    /// elements it may test, where it guards bodies against each other or
+    /// themselves ([`crate::contact::ccd::kept_pairs_most`]); 0 where it does not. Bodies that press
+    /// together at speed reach it; a search past it keeps nothing.
+    pub fn guarantee_memory_most(&self) -> usize {
+        let settings = &self.contacts.settings;
+        if settings.enabled && settings.ccd {
+            kept_pairs_most_bytes(&self.bodies)
+        } else {
+            0
+        }
+    }
+
     /// Whether this step's guarantee has anything to do (it is on, and
     /// bodies may meet each other or themselves, or a sphere collider
     /// may be passed through); where not, its buffer of start positions

@@ -27,7 +27,8 @@
 
 use std::collections::BTreeMap;
 
-use super::elements::{distance, Elements, Kind};
+use super::elements::{Elements, Kind};
+use super::search::Anchored;
 use crate::contact::grid::Grid;
 use crate::{Real, Vec3};
 
@@ -51,9 +52,27 @@ const CROWDED: usize = 4;
 /// anchored on the same step keep their pairs through it.
 const MARGIN_PER_MOVE: Real = 3.0;
 
-/// Most cells one element's box spans along an axis in the grid of a
-/// search (the grid's own cap is 16).
-const CELLS_PER_BOX: Real = 15.0;
+/// The pairs of elements the broad phase keeps, per element that
+/// collides, over every pair of bodies, and at least [`MIN_KEPT_PAIRS`]
+/// in all ([`kept_pairs_most`]): a search that would find more than the
+/// rest of this allowance keeps none, and its two bodies' pairs are
+/// searched again at each check instead (the same pairs, found in the
+/// grid's order rather than nearest first: slower, as the search is
+/// most of the broad phase's work), so that bodies pressed together at
+/// speed cannot fill the memory. The bullet demo's ball, at 100 m/s
+/// through a cloth, keeps about 300 per element (1.8 million pairs); a
+/// cloth folded on itself about 140 at the most.
+pub const KEPT_PAIRS_PER_ELEMENT: usize = 64;
+
+/// The fewest pairs the broad phase may keep, however few its elements.
+pub const MIN_KEPT_PAIRS: usize = 2_000_000;
+
+/// The most pairs the broad phase keeps among `elements` elements.
+pub fn kept_pairs_most(elements: usize) -> usize {
+    elements
+        .saturating_mul(KEPT_PAIRS_PER_ELEMENT)
+        .max(MIN_KEPT_PAIRS)
+}
 
 /// How a body moved since its anchor.
 #[derive(Debug, Clone, Copy, Default)]
@@ -91,7 +110,9 @@ fn parting(a: &Moved, b: &Moved) -> Real {
 struct Found {
     /// The bodies' epochs when found.
     epochs: (u64, u64),
-    pairs: Vec<(u32, u32, Real)>,
+    /// The pairs, or `None` where there were too many to keep
+    /// ([`kept_pairs_most`]): then searched at each check.
+    pairs: Option<Vec<(u32, u32, Real)>>,
 }
 
 /// The broad phase's state, kept from step to step.
@@ -125,6 +146,9 @@ pub(super) struct Sweep {
     grid: Grid,
     again: Vec<bool>,
     order: Vec<u32>,
+    /// The most pairs kept, where not [`kept_pairs_most`] (the tests keep
+    /// none, to search at every check).
+    allowance: Option<usize>,
 }
 
 impl Sweep {
@@ -195,18 +219,53 @@ impl Sweep {
         self.found.retain(|&(a, b), found| {
             found.epochs == (moved[a as usize].epoch, moved[b as usize].epoch)
         });
+        let allowance = self
+            .allowance
+            .unwrap_or_else(|| kept_pairs_most(elements.list.len()));
+        let mut kept: usize = self
+            .found
+            .values()
+            .filter_map(|f| f.pairs.as_ref())
+            .map(Vec::len)
+            .sum();
         for k in 0..self.near.len() {
             let (a, b) = self.near[k];
             if !self.found.contains_key(&(a, b)) {
-                let pairs = self.search(elements, a as usize, b as usize);
-                for span in [a as usize, b as usize] {
+                let (a, b) = (a as usize, b as usize);
+                let anchored = Anchored {
+                    elements,
+                    boxes: &self.boxes,
+                    anchor: &self.anchor,
+                    reach: self.reach,
+                };
+                let within = self.moved[a].half + self.moved[b].half;
+                let pairs = anchored.pairs(
+                    &mut self.grid,
+                    (a, b),
+                    within,
+                    allowance.saturating_sub(kept),
+                );
+                let found = pairs.as_ref().map_or(usize::MAX, Vec::len);
+                kept += pairs.as_ref().map_or(0, Vec::len);
+                for span in [a, b] {
                     let count = elements.spans[span].len();
-                    self.moved[span].crowded = pairs.len() > CROWDED * count;
+                    self.moved[span].crowded = found > CROWDED * count;
                 }
-                let epochs = (self.moved[a as usize].epoch, self.moved[b as usize].epoch);
-                self.found.insert((a, b), Found { epochs, pairs });
+                let epochs = (self.moved[a].epoch, self.moved[b].epoch);
+                self.found
+                    .insert((a as u32, b as u32), Found { epochs, pairs });
             }
         }
+    }
+
+    /// The most bytes the pairs the broad phase keeps may take for
+    /// `elements` elements that collide, while found and kept.
+    pub fn most_bytes(elements: usize) -> usize {
+        // A search's list grows by doubling up to the allowance left (the
+        // one being grown and the one it grows from are held at once: less
+        // than 3 times it), then is trimmed to its length and sorted (a
+        // stable sort's buffer: half of it).
+        3 * kept_pairs_most(elements) * size_of::<(u32, u32, Real)>()
     }
 
     /// Call `meet(a, b)` on every pair of elements that may come within
@@ -214,15 +273,22 @@ impl Sweep {
     /// bodies by pair of bodies, nearest first within each: its distance
     /// at the anchors, less how far its particles strayed and how far its
     /// bodies' mean moves part, is within it.
-    pub fn overlaps(&self, elements: &Elements, mut meet: impl FnMut(usize, usize)) {
+    pub fn overlaps(&mut self, elements: &Elements, mut meet: impl FnMut(usize, usize)) {
         let (gap, balls) = self.reach;
         let furthest = gap.max(balls);
+        let stray = &self.stray;
         let slack = |e: u32| {
             elements.list[e as usize]
                 .particles()
                 .iter()
-                .map(|&i| self.stray[i as usize])
+                .map(|&i| stray[i as usize])
                 .fold(0.0, Real::max)
+        };
+        let anchored = Anchored {
+            elements,
+            boxes: &self.boxes,
+            anchor: &self.anchor,
+            reach: self.reach,
         };
         for &(a, b) in &self.near {
             let Some(found) = self.found.get(&(a, b)) else {
@@ -231,10 +297,7 @@ impl Sweep {
             let (ma, mb) = (&self.moved[a as usize], &self.moved[b as usize]);
             let parting = if a == b { 0.0 } else { parting(ma, mb) };
             let bound = ma.most + mb.most + parting + furthest;
-            for &(p, q, d) in &found.pairs {
-                if d > bound {
-                    break;
-                }
+            let mut hand_on = |p: u32, q: u32, d: Real| {
                 let closest = d - slack(p) - slack(q) - parting;
                 let (ep, eq) = (&elements.list[p as usize], &elements.list[q as usize]);
                 let reach =
@@ -245,6 +308,26 @@ impl Sweep {
                     };
                 if closest <= reach {
                     meet(p as usize, q as usize);
+                }
+            };
+            match &found.pairs {
+                Some(pairs) => {
+                    for &(p, q, d) in pairs {
+                        if d > bound {
+                            break;
+                        }
+                        hand_on(p, q, d);
+                    }
+                }
+                None => {
+                    let within = ma.half + mb.half;
+                    let spans = (a as usize, b as usize);
+                    anchored.each_pair(&mut self.grid, spans, within, |p, q, d| {
+                        if d <= bound {
+                            hand_on(p, q, d);
+                        }
+                        true
+                    });
                 }
             }
         }
@@ -373,65 +456,6 @@ impl Sweep {
         }
         self.measure(elements, span, start, end);
     }
-
-    /// The pairs of elements of spans `a` and `b` (the same: of one body
-    /// with itself) within their margins and the reach of each other at
-    /// their anchors, nearest first: `b`'s element boxes in a grid, each
-    /// of `a`'s looked up in it.
-    fn search(&mut self, elements: &Elements, a: usize, b: usize) -> Vec<(u32, u32, Real)> {
-        let (sa, sb) = (elements.spans[a].clone(), elements.spans[b].clone());
-        let boxes = &self.boxes;
-        let extent = |e: usize| {
-            let (lo, hi) = boxes[e];
-            (hi - lo).max_element()
-        };
-        let widest = sa
-            .clone()
-            .chain(sb.clone())
-            .map(extent)
-            .fold(0.0, Real::max);
-        let mean = sb.clone().map(extent).sum::<Real>() / sb.len().max(1) as Real;
-        let cell = mean.max(widest / CELLS_PER_BOX);
-        let mut pairs = Vec::new();
-        if !(cell > 0.0 && cell.is_finite()) {
-            return pairs;
-        }
-        self.grid.build(cell, sb.clone().map(|e| boxes[e]));
-        let within = self.moved[a].half + self.moved[b].half;
-        let (gap, balls) = self.reach;
-        for e in sa {
-            let (lo, hi) = boxes[e];
-            let first = sb.start as u32;
-            let skip = if a == b { e - sb.start + 1 } else { 0 };
-            self.grid.query_once(
-                lo,
-                hi,
-                |f| f as usize >= skip,
-                |f| {
-                    let f = first as usize + f as usize;
-                    let (flo, fhi) = boxes[f];
-                    if !(lo.cmple(fhi).all() && flo.cmple(hi).all()) {
-                        return;
-                    }
-                    let Some((p, q)) = elements.pair(e, f) else {
-                        return;
-                    };
-                    let (ep, eq) = (&elements.list[p], &elements.list[q]);
-                    let reach = if ep.kind == Kind::Point(true) && eq.kind == Kind::Point(true) {
-                        balls
-                    } else {
-                        gap
-                    };
-                    let d = distance(ep, eq, &self.anchor);
-                    if d <= within + reach {
-                        pairs.push((p as u32, q as u32, d));
-                    }
-                },
-            );
-        }
-        pairs.sort_by(|x, y| x.2.total_cmp(&y.2).then((x.0, x.1).cmp(&(y.0, y.1))));
-        pairs
-    }
 }
 
 #[cfg(test)]
@@ -470,6 +494,22 @@ mod tests {
 
     #[test]
     fn every_pair_that_meets_is_handed_on_however_the_bodies_move() {
+        every_pair_that_meets_is_handed_on(None);
+    }
+
+    #[test]
+    fn every_pair_that_meets_is_handed_on_when_no_pairs_are_kept() {
+        // No allowance: every pair of bodies is searched at each check.
+        every_pair_that_meets_is_handed_on(Some(0));
+    }
+
+    #[test]
+    fn every_pair_that_meets_is_handed_on_when_few_pairs_are_kept() {
+        // An allowance some searches fit in and others do not.
+        every_pair_that_meets_is_handed_on(Some(300));
+    }
+
+    fn every_pair_that_meets_is_handed_on(allowance: Option<usize>) {
         // The three bodies moved at random: each body by a common shift
         // of up to 3 cm a step and each particle by up to 0.1–6 mm, so
         // they crumple, drift apart and through each other, and the anchors are left often. At every
@@ -481,10 +521,13 @@ mod tests {
         let bodies = &world.bodies;
         let elements = elements_of(&world);
         let (thickness, gap, radius) = (0.01, 1e-3, 1e-3);
-        let mut sweep = Sweep::default();
+        let mut sweep = Sweep {
+            allowance,
+            ..Sweep::default()
+        };
         let mut noise = Random(0x5EED);
         let mut start = world.particles.position.clone();
-        let mut met = 0;
+        let (mut met, mut searched) = (0, 0);
         for step in 0..120 {
             let mut end = start.clone();
             let jitter = [1e-4, 1e-3, 6e-3][step % 3];
@@ -495,6 +538,17 @@ mod tests {
                 }
             }
             sweep.prepare(&elements, &start, &end, thickness, gap, radius);
+            let kept: usize = sweep
+                .found
+                .values()
+                .filter_map(|f| f.pairs.as_ref())
+                .map(Vec::len)
+                .sum();
+            assert!(
+                kept <= allowance.unwrap_or(usize::MAX),
+                "step {step}: {kept} pairs kept"
+            );
+            searched += sweep.found.values().filter(|f| f.pairs.is_none()).count();
             let mut on = Vec::new();
             sweep.overlaps(&elements, |a, b| on.push((a, b)));
             on.sort_unstable();
@@ -517,6 +571,8 @@ mod tests {
         }
         // The motion does make them meet.
         assert!(met > 100, "{met} pairs met");
+        // Pairs of bodies over the allowance were searched at each check.
+        assert_eq!(searched > 0, allowance.is_some(), "{searched} searched");
     }
 
     #[test]
@@ -547,6 +603,9 @@ mod tests {
         assert_eq!(sweep.clock, 3);
         // The cloths' pairs 6 mm apart are within their margins (2.5 mm
         // each) and the gap of each other through the rope: found.
-        assert!(sweep.found.values().any(|f| !f.pairs.is_empty()));
+        assert!(sweep
+            .found
+            .values()
+            .any(|f| f.pairs.as_ref().is_some_and(|p| !p.is_empty())));
     }
 }

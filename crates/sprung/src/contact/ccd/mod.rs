@@ -30,8 +30,10 @@ mod broad;
 mod colliders;
 mod elements;
 mod narrow;
+mod search;
 mod zones;
 
+pub use broad::{kept_pairs_most, KEPT_PAIRS_PER_ELEMENT, MIN_KEPT_PAIRS};
 pub(crate) use colliders::sweep_colliders;
 
 use crate::body::Body;
@@ -53,6 +55,18 @@ pub const RADIUS: Real = 0.1;
 
 /// Rounds of impulses before impact zones.
 pub const IMPULSE_ROUNDS: usize = 4;
+
+/// The most bytes the guarantee's broad phase keeps for its pairs of
+/// elements among `bodies` ([`kept_pairs_most`]): 0 where no body
+/// collides.
+pub(crate) fn kept_pairs_most_bytes(bodies: &[Body]) -> usize {
+    let mut elements = Elements::default();
+    if elements.gather(bodies) {
+        Sweep::most_bytes(elements.list.len())
+    } else {
+        0
+    }
+}
 
 /// What the guarantee did in a step: its impulses and impact zones.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
