@@ -7,7 +7,8 @@ use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
 use sprung::error::{Readable, Seconds};
-use sprung::StepError;
+use sprung::integrate::Preconditioner;
+use sprung::{IntegratorKind, StepError, World};
 use sprung_io::{Scene, SceneError};
 
 use crate::checkpoint;
@@ -68,7 +69,7 @@ impl From<SceneError> for CliError {
 /// A blow-up found while recording (a non-finite number a row would
 /// hold): finish the outputs so far and say where they are kept; any other
 /// error as it is.
-fn kept(stop: CliError, outputs: Outputs, world: &sprung::World) -> CliError {
+fn kept(stop: CliError, outputs: Outputs, world: &World) -> CliError {
     match stop {
         CliError::BlowUp(error, _) => match outputs.finish(world, 0, false) {
             Ok(place) => CliError::BlowUp(error, format!("kept up to the last good step: {place}")),
@@ -248,8 +249,8 @@ pub fn run_scene(
     let unconverged = scene.world.solver_stats().unconverged_steps;
     if unconverged > 0 {
         eprintln!(
-            "warning: the {} solver stopped above its tolerance in {unconverged} of {steps} steps",
-            scene.world.integrator()
+            "warning: the {} stopped above its tolerance in {unconverged} of {steps} steps",
+            solver_named(&scene.world)
         );
     }
     if options.profile {
@@ -300,13 +301,34 @@ fn unconverged_warning(scene: &Scene) -> String {
         .solver_stats()
         .first_unconverged
         .unwrap_or((scene.world.steps(), f64::NAN));
+    let other = match (scene.world.integrator(), settings.preconditioner) {
+        (IntegratorKind::ImplicitEuler, Preconditioner::Jacobi) => {
+            ", try `preconditioner = \"laplacian\"` (far fewer iterations where the motion stretches the springs)"
+        }
+        (IntegratorKind::ImplicitEuler, Preconditioner::Laplacian) => {
+            ", try `preconditioner = \"jacobi\"` (cheaper where the motion bends more than it stretches)"
+        }
+        _ => "",
+    };
     format!(
-        "step {step} (t = {} s): the {} solver stopped after max_iterations = {} with a relative residual {residual:.3e}, above solver_tolerance = {:.1e}; the step was taken less accurately (raise `max_iterations` or `solver_tolerance` in [sim], or lower `dt`; warned once, counted at the end)",
+        "step {step} (t = {} s): the {} stopped after max_iterations = {} with a relative residual {residual:.3e}, above solver_tolerance = {:.1e}; the step was taken less accurately (raise `max_iterations` or `solver_tolerance` in [sim]{other}, or lower `dt`; warned once, counted at the end)",
         Seconds(scene.world.time()),
-        scene.world.integrator(),
+        solver_named(&scene.world),
         settings.max_iterations,
         settings.tolerance
     )
+}
+
+/// The implicit solver of `world`, with implicit Euler's preconditioner:
+/// "implicit_euler solver (jacobi preconditioner)".
+fn solver_named(world: &World) -> String {
+    let kind = world.integrator();
+    if kind == IntegratorKind::ImplicitEuler {
+        let preconditioner = world.settings.solver.preconditioner.name();
+        format!("{kind} solver ({preconditioner} preconditioner)")
+    } else {
+        format!("{kind} solver")
+    }
 }
 
 /// The number of steps to run `scene`: `steps`, or `time` (s) divided by

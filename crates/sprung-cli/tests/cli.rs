@@ -485,6 +485,15 @@ fn implicit_solves_are_reported_and_a_solve_short_of_its_tolerance_is_warned_abo
         "{stderr}"
     );
     assert!(stderr.contains("max_iterations = 2"), "{stderr}");
+    // The preconditioner is named, and the other one offered.
+    assert!(
+        stderr.contains("the implicit_euler solver (jacobi preconditioner) stopped"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("try `preconditioner = \"laplacian\"`"),
+        "{stderr}"
+    );
     assert!(stderr.contains("relative residual"), "{stderr}");
     assert!(stderr.contains("in 4 of 5 steps"), "{stderr}");
     let (_, rows) = csv(&dir.path().join("short/diagnostics.csv"));
