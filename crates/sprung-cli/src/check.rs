@@ -128,7 +128,7 @@ pub fn run(path: &Path, overrides: &[Override]) -> Result<(), CliError> {
     let guarantee = scene.world.guarantee_memory_most();
     if guarantee > 0 {
         println!(
-            "  contacts may add up to {:.1} MB where bodies press together at speed (the pairs the guarantee keeps: {} per element that collides, {} at least)",
+            "  the guarantee's pairs may add up to {:.1} MB where bodies press together at speed (it keeps {} per element that collides, {} at least, no more than the pairs there are; not counted: the collisions of a step and the penalty contacts' pairs)",
             guarantee as f64 / 1e6,
             sprung::contact::ccd::KEPT_PAIRS_PER_ELEMENT,
             sprung::contact::ccd::MIN_KEPT_PAIRS,

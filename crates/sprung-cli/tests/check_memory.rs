@@ -62,7 +62,7 @@ fn check_measures_the_memory_a_run_takes() {
 fn check_bounds_the_memory_of_contacts_that_come_later() {
     let dir = tempfile::tempdir().expect("tempdir");
     let d = dir.path();
-    // The bullet demo's ball at 100 m/s, 10 cm above a 30 × 30 cloth:
+    // The bullet demo's ball at 100 m/s, 20 cm above a 30 × 30 cloth:
     // it reaches the cloth after check's two steps, and the guarantee
     // then keeps about 1.8 million pairs of elements (tens of MB).
     let scene = "[sim]\ndt = 2.5e-4\nsteps = 60\nintegrator = \"symplectic_euler\"\n\n\
@@ -77,9 +77,10 @@ fn check_bounds_the_memory_of_contacts_that_come_later() {
     assert!(check.status.success(), "{}", text(&check.stderr));
     let said = text(&check.stdout);
     let estimate = megabytes(&said, "memory while running:");
-    let contacts = megabytes(&said, "contacts may add up to");
+    let contacts = megabytes(&said, "the guarantee's pairs may add up to");
     // The bound is 3 × (at least 2 million pairs) × 16 bytes: the
-    // 6,125 elements' 64 each are fewer than the 2 million.
+    // 6,125 elements' 256 each are fewer than the 2 million, and they
+    // make 18.8 million pairs.
     assert_eq!(contacts, 96.0, "{said}");
     let run = sprung(
         &["run", "bullet.toml", "--out", "o", "--profile", "--quiet"],

@@ -494,6 +494,23 @@ fn implicit_solves_are_reported_and_a_solve_short_of_its_tolerance_is_warned_abo
         stderr.contains("try `preconditioner = \"laplacian\"`"),
         "{stderr}"
     );
+    // With the Laplacian preconditioner, named, and nothing else offered.
+    let laplacian = stiff_cloth_scene(1).replace(
+        "max_iterations = 1\n",
+        "max_iterations = 1\npreconditioner = \"laplacian\"\n",
+    );
+    write(dir.path(), "laplacian.toml", &laplacian);
+    let output = sprung(
+        &["run", "laplacian.toml", "--out", "laplacian", "--quiet"],
+        dir.path(),
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let named = text(&output.stderr);
+    assert!(
+        named.contains("the implicit_euler solver (laplacian preconditioner) stopped"),
+        "{named}"
+    );
+    assert!(!named.contains("try `preconditioner"), "{named}");
     assert!(stderr.contains("relative residual"), "{stderr}");
     assert!(stderr.contains("in 4 of 5 steps"), "{stderr}");
     let (_, rows) = csv(&dir.path().join("short/diagnostics.csv"));

@@ -8,10 +8,13 @@ use crate::Real;
 use super::World;
 
 impl World {
-    /// The most memory (bytes) the guarantee keeps for the pairs of
-    /// elements it may test, where it guards bodies against each other or
-    /// themselves ([`crate::contact::ccd::kept_pairs_most`]); 0 where it does not. Bodies that press
-    /// together at speed reach it; a search past it keeps nothing.
+    /// The most memory (bytes) the guarantee's lists of the pairs of
+    /// elements it may test can take, at the peak of a search, where it
+    /// guards bodies against each other or themselves (from
+    /// [`crate::contact::ccd::kept_pairs_most`]); 0 where it does not.
+    /// Bodies that press together at speed come near it; a search past
+    /// it keeps nothing. Not counted: the collisions found in a step and
+    /// the penalty contacts' candidate pairs.
     pub fn guarantee_memory_most(&self) -> usize {
         let settings = &self.contacts.settings;
         if settings.enabled && settings.ccd {
