@@ -183,6 +183,8 @@ pub fn run_scene(
     let progress = progress_bar(steps, options.quiet);
     progress.set_position(scene.world.steps());
     let first_step = scene.world.steps() + 1;
+    // The preconditioner implicit Euler's last solve took.
+    let mut chosen = None;
     for step in first_step..=steps {
         if let Some(signal) = interrupt::received() {
             progress.abandon();
@@ -195,24 +197,8 @@ pub fn run_scene(
             );
             return Err(CliError::Interrupted(signal, message));
         }
-        match scene.world.step(scene.dt) {
-            Ok(report)
-                if report.unconverged && scene.world.solver_stats().unconverged_steps == 1 =>
-            {
-                progress.suspend(|| eprintln!("warning: {}", unconverged_warning(&scene)));
-            }
-            Ok(_)
-                if scene.world.constraint_stats().unconverged_steps == 1
-                    && scene
-                        .world
-                        .constraint_stats()
-                        .first_unconverged
-                        .map(|f| f.0)
-                        == Some(scene.world.steps()) =>
-            {
-                progress.suspend(|| eprintln!("warning: {}", rods_warning(&scene)));
-            }
-            Ok(_) => {}
+        let report = match scene.world.step(scene.dt) {
+            Ok(report) => report,
             Err(error) => {
                 progress.abandon();
                 // The blown-up state is not saved: the last checkpoint stays.
@@ -220,6 +206,30 @@ pub fn run_scene(
                 let kept = format!("kept up to the last good step: {place}");
                 return Err(CliError::BlowUp(error, kept));
             }
+        };
+        // Auto's change to the factor is news, but not where a resumed
+        // run had it before it stopped.
+        let auto = scene.world.settings.solver.preconditioner == Preconditioner::Auto;
+        if auto
+            && !options.quiet
+            && report.preconditioner == Some(Preconditioner::Stiffness)
+            && chosen != report.preconditioner
+            && (chosen.is_some() || resumed.is_none())
+        {
+            progress.suspend(|| eprintln!("note: {}", factored_note(&scene)));
+        }
+        chosen = report.preconditioner.or(chosen);
+        if report.unconverged && scene.world.solver_stats().unconverged_steps == 1 {
+            progress.suspend(|| eprintln!("warning: {}", unconverged_warning(&scene, chosen)));
+        } else if scene.world.constraint_stats().unconverged_steps == 1
+            && scene
+                .world
+                .constraint_stats()
+                .first_unconverged
+                .map(|f| f.0)
+                == Some(scene.world.steps())
+        {
+            progress.suspend(|| eprintln!("warning: {}", rods_warning(&scene)));
         }
         if step % every == 0 || step == steps {
             if let Err(stop) = outputs.record(&scene.world) {
@@ -250,7 +260,7 @@ pub fn run_scene(
     if unconverged > 0 {
         eprintln!(
             "warning: the {} stopped above its tolerance in {unconverged} of {steps} steps",
-            solver_named(&scene.world)
+            solver_named(&scene.world, chosen)
         );
     }
     if options.profile {
@@ -293,40 +303,57 @@ fn rods_warning(scene: &Scene) -> String {
 }
 
 /// The warning for the first step whose implicit solve stopped at its
-/// iteration limit above its tolerance.
-fn unconverged_warning(scene: &Scene) -> String {
+/// iteration limit above its tolerance; `chosen` the preconditioner of
+/// implicit Euler's last solve.
+fn unconverged_warning(scene: &Scene, chosen: Option<Preconditioner>) -> String {
     let settings = scene.world.settings.solver;
     let (step, residual) = scene
         .world
         .solver_stats()
         .first_unconverged
         .unwrap_or((scene.world.steps(), f64::NAN));
-    // Where the Laplacian one is in use it already takes the fewest
+    // Where the stiffness factor is in use it already takes the fewest
     // iterations: nothing to offer but the limits.
-    let other = match (scene.world.integrator(), settings.preconditioner) {
-        (IntegratorKind::ImplicitEuler, Preconditioner::Jacobi) => {
-            ", try `preconditioner = \"laplacian\"` (several times fewer iterations where the motion stretches the springs)"
+    let other = match chosen {
+        Some(Preconditioner::Jacobi | Preconditioner::Laplacian) => {
+            ", try `preconditioner = \"stiffness\"` (the springs' own matrix factored each step: a few iterations where stiff springs make hundreds)"
         }
         _ => "",
     };
     format!(
         "step {step} (t = {} s): the {} stopped after max_iterations = {} with a relative residual {residual:.3e}, above solver_tolerance = {:.1e}; the step was taken less accurately (raise `max_iterations` or `solver_tolerance` in [sim]{other}, or lower `dt`; warned once, counted at the end)",
         Seconds(scene.world.time()),
-        solver_named(&scene.world),
+        solver_named(&scene.world, chosen),
         settings.max_iterations,
         settings.tolerance
     )
 }
 
-/// The implicit solver of `world`, with implicit Euler's preconditioner:
-/// "implicit_euler solver (jacobi preconditioner)".
-fn solver_named(world: &World) -> String {
+/// The note for the step at which the auto preconditioner took the
+/// stiffness factor.
+fn factored_note(scene: &Scene) -> String {
+    format!(
+        "step {} (t = {} s): implicit_euler's auto preconditioner took the springs' stiffness factor from here on: Jacobi needed more iterations than a step with the factor costs (`preconditioner` in [sim] chooses one)",
+        scene.world.steps(),
+        Seconds(scene.world.time()),
+    )
+}
+
+/// The implicit solver of `world`, with implicit Euler's preconditioner
+/// (`chosen`, the one its last solve took, where auto chose):
+/// "implicit_euler solver (jacobi preconditioner)", "implicit_euler solver
+/// (auto preconditioner: stiffness)".
+fn solver_named(world: &World, chosen: Option<Preconditioner>) -> String {
     let kind = world.integrator();
-    if kind == IntegratorKind::ImplicitEuler {
-        let preconditioner = world.settings.solver.preconditioner.name();
-        format!("{kind} solver ({preconditioner} preconditioner)")
-    } else {
-        format!("{kind} solver")
+    if kind != IntegratorKind::ImplicitEuler {
+        return format!("{kind} solver");
+    }
+    let asked = world.settings.solver.preconditioner;
+    match chosen {
+        Some(chosen) if asked == Preconditioner::Auto => {
+            format!("{kind} solver (auto preconditioner: {})", chosen.name())
+        }
+        _ => format!("{kind} solver ({} preconditioner)", asked.name()),
     }
 }
 

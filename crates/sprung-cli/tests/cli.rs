@@ -451,6 +451,37 @@ pinned = [0, 7]
 }
 
 #[test]
+fn the_auto_preconditioner_says_when_it_takes_the_factor() {
+    // The 8² stiff cloth swinging down: Jacobi needs more iterations than
+    // the factor of so small a cloth costs, so auto takes the factor at an
+    // early step and says so once (a note, silenced by --quiet); the
+    // factored solves converge, so nothing is warned.
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), "auto.toml", &stiff_cloth_scene(1000));
+    let output = sprung(&["run", "auto.toml", "--out", "auto"], dir.path());
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let stderr = text(&output.stderr);
+    assert_eq!(stderr.matches("note:").count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("implicit_euler's auto preconditioner took the springs' stiffness factor"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("warning:"), "{stderr}");
+    let (header, rows) = csv(&dir.path().join("auto/diagnostics.csv"));
+    let iterations = header
+        .iter()
+        .position(|c| c == "solver_iterations")
+        .expect("iterations column");
+    // The last steps are factored: one iteration each.
+    assert_eq!(rows[rows.len() - 1][iterations], 1.0);
+    let quiet = sprung(
+        &["run", "auto.toml", "--out", "quiet", "--quiet"],
+        dir.path(),
+    );
+    assert!(quiet.stderr.is_empty(), "{}", text(&quiet.stderr));
+}
+
+#[test]
 fn implicit_solves_are_reported_and_a_solve_short_of_its_tolerance_is_warned_about() {
     let dir = tempfile::tempdir().expect("tempdir");
     write(dir.path(), "good.toml", &stiff_cloth_scene(1000));
@@ -472,7 +503,11 @@ fn implicit_solves_are_reported_and_a_solve_short_of_its_tolerance_is_warned_abo
     // warning with the step and the residual at the first, and the count
     // at the end, even
     // with --quiet (which silences everything but errors and warnings).
-    write(dir.path(), "short.toml", &stiff_cloth_scene(2));
+    let jacobi = stiff_cloth_scene(2).replace(
+        "max_iterations = 2\n",
+        "max_iterations = 2\npreconditioner = \"jacobi\"\n",
+    );
+    write(dir.path(), "short.toml", &jacobi);
     let output = sprung(
         &["run", "short.toml", "--out", "short", "--quiet"],
         dir.path(),
@@ -485,16 +520,16 @@ fn implicit_solves_are_reported_and_a_solve_short_of_its_tolerance_is_warned_abo
         "{stderr}"
     );
     assert!(stderr.contains("max_iterations = 2"), "{stderr}");
-    // The preconditioner is named, and the other one offered.
+    // The preconditioner is named, and the stiffness factor offered.
     assert!(
         stderr.contains("the implicit_euler solver (jacobi preconditioner) stopped"),
         "{stderr}"
     );
     assert!(
-        stderr.contains("try `preconditioner = \"laplacian\"`"),
+        stderr.contains("try `preconditioner = \"stiffness\"`"),
         "{stderr}"
     );
-    // With the Laplacian preconditioner, named, and nothing else offered.
+    // With the Laplacian preconditioner, named, and the factor offered.
     let laplacian = stiff_cloth_scene(1).replace(
         "max_iterations = 1\n",
         "max_iterations = 1\npreconditioner = \"laplacian\"\n",
@@ -510,7 +545,10 @@ fn implicit_solves_are_reported_and_a_solve_short_of_its_tolerance_is_warned_abo
         named.contains("the implicit_euler solver (laplacian preconditioner) stopped"),
         "{named}"
     );
-    assert!(!named.contains("try `preconditioner"), "{named}");
+    assert!(
+        named.contains("try `preconditioner = \"stiffness\"`"),
+        "{named}"
+    );
     assert!(stderr.contains("relative residual"), "{stderr}");
     assert!(stderr.contains("in 4 of 5 steps"), "{stderr}");
     let (_, rows) = csv(&dir.path().join("short/diagnostics.csv"));

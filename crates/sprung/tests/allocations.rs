@@ -8,6 +8,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
 use sprung::build::{self, ClothSprings};
+use sprung::integrate::Preconditioner;
 use sprung::{Collider, ContactResponse, IntegratorKind, Shape, Substeps, Vec3, World};
 
 /// The system allocator, counting the allocations of each thread.
@@ -85,5 +86,43 @@ fn automatic_substeps_allocate_nothing_a_step() {
             world.step(dt).expect("stable");
         }
         assert_eq!(allocations() - before, 0, "{kind}: allocations in 50 steps");
+    }
+}
+
+#[test]
+fn a_factored_step_allocates_nothing() {
+    // Once the pattern and its symbolic analysis are made (the first
+    // factored step), filling and factoring the matrix and the
+    // back-substitutions reuse their buffers. Run in a pool of one thread,
+    // so the step's work is on this thread and counted.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a thread pool");
+    for preconditioner in [Preconditioner::Stiffness, Preconditioner::Auto] {
+        // The stiff cloth of issue 35 (0.2 kg, 2·10⁴ N/m) at 16², laid
+        // flat, swinging down at the frame step: auto takes the factor
+        // within its first steps.
+        let cloth = build::cloth(16, 16, 1.0, 1.0, ClothSprings::default())
+            .expect("valid cloth")
+            .with_mass(0.2 / 256.0)
+            .with_stiffness(2e4)
+            .with_damping(0.5)
+            .with_pinned(vec![240, 255])
+            .placed(1.0, Vec3::new(-90.0, 0.0, 0.0), Vec3::ZERO);
+        let mut world = World::new(IntegratorKind::ImplicitEuler);
+        world.add_body("cloth", cloth).expect("valid body");
+        world.settings.solver.preconditioner = preconditioner;
+        pool.install(|| {
+            for _ in 0..10 {
+                world.step(1.0 / 60.0).expect("stable");
+            }
+            let before = allocations();
+            for _ in 0..10 {
+                world.step(1.0 / 60.0).expect("stable");
+            }
+            let allocated = allocations() - before;
+            assert_eq!(allocated, 0, "{preconditioner:?}");
+        });
     }
 }

@@ -212,8 +212,13 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
             for (kind, preconditioner, dt) in [
                 (
                     IntegratorKind::SymplecticEuler,
-                    Preconditioner::Jacobi,
+                    Preconditioner::Auto,
                     Step::Stable,
+                ),
+                (
+                    IntegratorKind::ImplicitEuler,
+                    Preconditioner::Auto,
+                    Step::Fixed(FRAME),
                 ),
                 (
                     IntegratorKind::ImplicitEuler,
@@ -227,14 +232,15 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
                 ),
                 (
                     IntegratorKind::Projective,
-                    Preconditioner::Jacobi,
+                    Preconditioner::Auto,
                     Step::Fixed(FRAME),
                 ),
             ] {
-                let pc = if preconditioner == Preconditioner::Laplacian {
-                    " (Laplacian pc.)"
-                } else {
-                    ""
+                // The default (auto) unnamed; the others named.
+                let pc = match (kind, preconditioner) {
+                    (IntegratorKind::ImplicitEuler, Preconditioner::Jacobi) => " (Jacobi pc.)",
+                    (_, Preconditioner::Laplacian) => " (Laplacian pc.)",
+                    _ => "",
                 };
                 cases.push(Case {
                     group: Group::Stiff,

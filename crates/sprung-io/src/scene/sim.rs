@@ -199,7 +199,7 @@ pub(super) fn solver_settings(
             Some(name) => Preconditioner::from_name(name).ok_or_else(|| {
                 (
                     "preconditioner",
-                    format!("unknown preconditioner \"{name}\" (known: jacobi, laplacian)"),
+                    format!("unknown preconditioner \"{name}\" (known: auto, jacobi, laplacian, stiffness)"),
                 )
             })?,
         },

@@ -63,6 +63,7 @@ pub use mouse::MouseSpring;
 pub use pressure::{pressure, GasPressure};
 #[doc(hidden)]
 pub use spring::pulls_alone;
+pub(crate) use spring::SpringJacobian;
 pub use spring::{spring_energy, SpringForce};
 pub use wind::{Wind, WindModel, AIR_DENSITY};
 pub use wind_field::{Gusts, Turbulence, WindField};

@@ -129,6 +129,10 @@ pub struct StepReport {
     pub substeps: Option<u32>,
     /// The length of the last internal step (s), where there were any.
     pub step_size: Option<Real>,
+    /// The preconditioner of implicit Euler's last linear solve (never
+    /// [`Preconditioner::Auto`]: the one it chose); `None` for the other
+    /// methods.
+    pub preconditioner: Option<Preconditioner>,
 }
 
 impl StepReport {
@@ -149,6 +153,7 @@ impl StepReport {
             unconverged: self.unconverged || next.unconverged,
             substeps: add(self.substeps, next.substeps),
             step_size: next.step_size.or(self.step_size),
+            preconditioner: next.preconditioner.or(self.preconditioner),
         }
     }
 }

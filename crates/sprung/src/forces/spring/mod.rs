@@ -166,20 +166,42 @@ impl Renumbered {
 
 /// One spring's Jacobian data at a state.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct SpringJacobian {
+pub(crate) struct SpringJacobian {
     /// Unit axis `t = (x_i - x_j) / d` (zero for a spring of zero length).
-    axis: Vec3,
+    pub axis: Vec3,
     /// Transverse stiffness `k max(0, 1 - L0/d)` (N/m).
-    across: Real,
+    pub across: Real,
 }
 
 impl SpringJacobian {
-    /// `α ∂f_i/∂x_i·p + β ∂f_i/∂v_i·p` for spring stiffness `k` (N/m) and
-    /// damping `c` (N·s/m).
-    fn product(self, k: Real, c: Real, scale: JacobianScale, p: Vec3) -> Vec3 {
+    /// Spring `s`'s Jacobian data at the positions `x` (m).
+    pub fn at(springs: &Springs, s: usize, x: &[Vec3]) -> SpringJacobian {
+        let delta = x[springs.first()[s] as usize] - x[springs.second()[s] as usize];
+        let length = delta.length();
+        if length == 0.0 {
+            return SpringJacobian::default();
+        }
+        let stretch = 1.0 - springs.rest_length[s] / length;
+        SpringJacobian {
+            axis: delta / length,
+            across: springs.stiffness[s] * stretch.max(0.0),
+        }
+    }
+
+    /// `(a, b)` with `-(α ∂f_i/∂x_i + β ∂f_i/∂v_i) = a t tᵀ + b I`, for
+    /// spring stiffness `k` (N/m) and damping `c` (N·s/m); both are at
+    /// least 0 for `α, β, c ≥ 0`.
+    pub fn coefficients(self, k: Real, c: Real, scale: JacobianScale) -> (Real, Real) {
         // α (k t tᵀ + k⊥ (I - t tᵀ)) + β c t tᵀ = a t tᵀ + b I.
         let a = scale.position * (k - self.across) + scale.velocity * c;
         let b = scale.position * self.across;
+        (a, b)
+    }
+
+    /// `α ∂f_i/∂x_i·p + β ∂f_i/∂v_i·p` for spring stiffness `k` (N/m) and
+    /// damping `c` (N·s/m).
+    fn product(self, k: Real, c: Real, scale: JacobianScale, p: Vec3) -> Vec3 {
+        let (a, b) = self.coefficients(k, c, scale);
         -(a * self.axis.dot(p) * self.axis + b * p)
     }
 
@@ -269,18 +291,7 @@ impl Force for SpringForce {
             .resize(springs.len(), SpringJacobian::default());
         parallel::for_each_span(&mut self.linearized[..], |start, chunk| {
             for (offset, jacobian) in chunk.iter_mut().enumerate() {
-                let s = start + offset;
-                let delta = x[springs.first()[s] as usize] - x[springs.second()[s] as usize];
-                let length = delta.length();
-                *jacobian = if length == 0.0 {
-                    SpringJacobian::default()
-                } else {
-                    let stretch = 1.0 - springs.rest_length[s] / length;
-                    SpringJacobian {
-                        axis: delta / length,
-                        across: springs.stiffness[s] * stretch.max(0.0),
-                    }
-                };
+                *jacobian = SpringJacobian::at(springs, start + offset, x);
             }
         });
         Linearization::Approximate

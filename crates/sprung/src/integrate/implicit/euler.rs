@@ -22,13 +22,17 @@
 //! iteration is Newton's method on the equation above.
 //! With `newton_iterations = 1` (the default) one linear solve per step.
 //!
-//! The preconditioner ([`Preconditioner`]) is the diagonal (Jacobi, the
-//! default), or the factored matrix `M + dt² L` of the projective solver
-//! (the springs' stiffness as if it acted in every direction): one
-//! back-substitution per iteration, several times a product's cost, but
-//! several times fewer iterations where the motion stretches the springs
-//! (a cloth hanging in its plane); where it bends them (a cloth swinging
-//! out of its plane), it gains less than it costs.
+//! The preconditioner ([`Preconditioner`]) is the diagonal (Jacobi); the
+//! factored matrix `M + dt² L` of the projective solver (the springs'
+//! stiffness as if it acted in every direction): one back-substitution per
+//! iteration, several times a product's cost, but several times fewer
+//! iterations where the motion stretches the springs (a cloth hanging in
+//! its plane), while where it bends them (a cloth swinging out of its
+//! plane) it gains less than it costs; or the springs' own Newton matrix,
+//! factored each step (`stiffness.rs`): one iteration for a world of
+//! springs, whatever their directions. The default, auto, tries Jacobi
+//! within the iterations a factored step costs and takes the factor from
+//! the first solve that needs more (that solve is done again with it).
 //! For linear forces (a spring moving along its axis) one iteration is
 //! exact, and the energy of an oscillator shrinks by `1/(1 + ω² dt²)` per
 //! step.
@@ -45,12 +49,18 @@
 
 use super::cg::{jacobi, Operator};
 use super::laplacian::{self, Factor};
+use super::stiffness::{self, StiffnessFactor};
 use super::{mass_minus, HeldSolve, Preconditioner, SolverSettings};
+use crate::colliders::ContactConstraint;
 use crate::error::SolverError;
 use crate::forces::{JacobianScale, Jacobians};
 use crate::integrate::{fit, Derivative, Integrator, IntegratorKind, State, StepReport};
 use crate::parallel;
+use crate::state::{StateError, WorldState};
 use crate::{Real, Vec3};
+
+/// The name of the auto preconditioner's choice in a saved state.
+const FACTORED: &str = "implicit_euler.factored";
 
 /// Backward Euler with its Newton and conjugate-gradient buffers.
 #[derive(Debug, Default)]
@@ -65,6 +75,12 @@ pub struct ImplicitEuler {
     held: HeldSolve,
     /// The factored `M + dt² L` of the Laplacian preconditioner.
     factor: Option<Factor>,
+    /// The factored springs' Newton matrix of the stiffness preconditioner.
+    stiffness: Option<StiffnessFactor>,
+    /// The auto preconditioner has taken the stiffness factor (for good).
+    factored: bool,
+    /// The step's contacts, kept while Jacobi is tried.
+    contacts_held: Vec<ContactConstraint>,
 }
 
 /// The matrix `M - dt D - dt² K` at a state, with its preconditioner: the
@@ -74,7 +90,83 @@ struct NewtonMatrix<'a> {
     state: State<'a>,
     scale: JacobianScale,
     inverse_diagonal: &'a [Vec3],
-    factor: Option<&'a mut Factor>,
+    factor: Factored<'a>,
+}
+
+/// The step's linearisation, from which its Newton matrix is made with
+/// each preconditioner.
+struct Linearized<'a> {
+    system: &'a dyn Derivative,
+    state: State<'a>,
+    scale: JacobianScale,
+    inverse_diagonal: &'a [Vec3],
+    /// The step (s).
+    dt: Real,
+}
+
+impl Linearized<'_> {
+    /// Solve the Newton system `(right_side, x)` with `preconditioner` (not
+    /// auto), its factor refreshed in `factors` (the Laplacian's, the
+    /// stiffness one's), the contacts held by `held` (released where they
+    /// pull, with `release`). The report carries the solve's iterations,
+    /// residual, convergence and preconditioner.
+    fn solve(
+        &self,
+        preconditioner: Preconditioner,
+        factors: &mut (&mut Option<Factor>, &mut Option<StiffnessFactor>),
+        held: &mut HeldSolve,
+        (right_side, x): (&[Vec3], &mut [Vec3]),
+        settings: &SolverSettings,
+        release: bool,
+    ) -> Result<StepReport, SolverError> {
+        let factor = match preconditioner {
+            Preconditioner::Laplacian => {
+                Factored::Laplacian(laplacian::refreshed(factors.0, self.dt, self.system)?)
+            }
+            Preconditioner::Stiffness => {
+                let factor = stiffness::prepared(factors.1, self.system)?;
+                factor.factor(self.dt, self.system, self.state.position)?;
+                Factored::Stiffness(factor)
+            }
+            Preconditioner::Jacobi | Preconditioner::Auto => Factored::None,
+        };
+        let mut matrix = NewtonMatrix {
+            system: self.system,
+            state: self.state,
+            scale: self.scale,
+            inverse_diagonal: self.inverse_diagonal,
+            factor,
+        };
+        let mut report = StepReport {
+            iterations: Some(0),
+            preconditioner: Some(preconditioner),
+            ..StepReport::default()
+        };
+        let v = self.state.velocity;
+        held.solve(
+            &mut matrix,
+            (right_side, x),
+            (self.system.inverse_mass(), settings),
+            release,
+            |c| (c.normal_velocity() - v[c.particle].dot(c.normal)) * c.normal,
+            &mut report,
+        );
+        Ok(report)
+    }
+}
+
+/// Add the iterations of `solved` to `report`'s.
+fn add_iterations(report: &mut StepReport, solved: StepReport) {
+    if let (Some(total), Some(more)) = (report.iterations.as_mut(), solved.iterations) {
+        *total += more;
+    }
+}
+
+/// The factored preconditioner of a [`NewtonMatrix`], if any.
+enum Factored<'a> {
+    None,
+    Laplacian(&'a mut Factor),
+    Stiffness(&'a mut StiffnessFactor),
 }
 
 impl Operator for NewtonMatrix<'_> {
@@ -85,9 +177,10 @@ impl Operator for NewtonMatrix<'_> {
     }
 
     fn precondition(&mut self, r: &[Vec3], z: &mut [Vec3]) {
-        match self.factor.as_mut() {
-            Some(f) => f.solve(r, z),
-            None => jacobi(self.inverse_diagonal, r, z),
+        match &mut self.factor {
+            Factored::Laplacian(f) => f.solve(r, z),
+            Factored::Stiffness(f) => f.solve(r, z),
+            Factored::None => jacobi(self.inverse_diagonal, r, z),
         }
     }
 }
@@ -189,30 +282,62 @@ impl Integrator for ImplicitEuler {
                     };
                 }
             });
-            let factor = match solver.preconditioner {
-                Preconditioner::Jacobi => None,
-                Preconditioner::Laplacian => {
-                    Some(laplacian::refreshed(&mut self.factor, dt, &*system)?)
-                }
-            };
-            let mut matrix = NewtonMatrix {
+            let linearized = Linearized {
                 system: &*system,
                 state,
                 scale: matrix_scale,
                 inverse_diagonal: &self.inverse_diagonal,
-                factor,
+                dt,
+            };
+            let mut factors = (&mut self.factor, &mut self.stiffness);
+            let (preconditioner, trial) = match solver.preconditioner {
+                Preconditioner::Auto if self.factored => (Preconditioner::Stiffness, None),
+                Preconditioner::Auto => {
+                    let budget = stiffness::prepared(factors.1, &*system)?.budget();
+                    let limit = budget.min(solver.max_iterations);
+                    (Preconditioner::Jacobi, Some(limit))
+                }
+                chosen => (chosen, None),
+            };
+            if trial.is_some() {
+                self.contacts_held.clone_from(&self.held.contacts);
+            }
+            let settings = SolverSettings {
+                max_iterations: trial.unwrap_or(solver.max_iterations),
+                ..*solver
             };
             // The first iteration decides which contacts hold: those that
             // pulled are released and the system solved again.
-            let v = &*velocity;
-            self.held.solve(
-                &mut matrix,
-                (&self.right_side, &mut self.correction),
-                (system.inverse_mass(), solver),
-                newton == 0,
-                |c| (c.normal_velocity() - v[c.particle].dot(c.normal)) * c.normal,
-                &mut report,
-            );
+            let release = newton == 0;
+            let solve = (&self.right_side[..], &mut self.correction[..]);
+            let mut solved = linearized.solve(
+                preconditioner,
+                &mut factors,
+                &mut self.held,
+                solve,
+                &settings,
+                release,
+            )?;
+            if trial.is_some() && solved.unconverged {
+                // Jacobi would cost more than the factor: take the factor,
+                // from this solve on.
+                self.factored = true;
+                add_iterations(&mut report, solved);
+                self.held.contacts.clone_from(&self.contacts_held);
+                let solve = (&self.right_side[..], &mut self.correction[..]);
+                solved = linearized.solve(
+                    Preconditioner::Stiffness,
+                    &mut factors,
+                    &mut self.held,
+                    solve,
+                    solver,
+                    release,
+                )?;
+            }
+            add_iterations(&mut report, solved);
+            report.residual = solved.residual;
+            report.unconverged |= solved.unconverged;
+            report.preconditioner = solved.preconditioner;
             for (c, &impulse) in self.held.contacts.iter_mut().zip(&self.held.impulses) {
                 c.normal_change = impulse.max(0.0) / mass[c.particle];
             }
@@ -229,5 +354,17 @@ impl Integrator for ImplicitEuler {
             position[c.particle] = self.start_position[c.particle] + dt * velocity[c.particle];
         }
         Ok(report)
+    }
+
+    /// Whether the auto preconditioner has taken the stiffness factor: a
+    /// resumed run goes on with it, as the run it was saved from does.
+    fn save_history(&self, state: &mut WorldState) {
+        state.put(FACTORED, vec![Real::from(u8::from(self.factored))]);
+    }
+
+    fn restore_history(&mut self, state: &WorldState, _particles: usize) -> Result<(), StateError> {
+        // States saved before the auto preconditioner have none: Jacobi.
+        self.factored = state.get_any(FACTORED).is_ok_and(|v| v == [1.0]);
+        Ok(())
     }
 }

@@ -14,6 +14,7 @@ mod cg;
 mod euler;
 mod laplacian;
 mod projective;
+mod stiffness;
 
 pub use euler::ImplicitEuler;
 pub use projective::Projective;
@@ -29,28 +30,46 @@ use crate::{Real, Vec3};
 /// The preconditioner of implicit Euler's conjugate gradients.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Preconditioner {
-    /// The inverse of the matrix's diagonal: cheap, the default.
+    /// Jacobi while its solves cost less than a step with the stiffness
+    /// factor would (the number of iterations a fixed cost model gives for
+    /// the springs' pattern), the stiffness factor from the first solve
+    /// that needs more on (it is solved again with it). The default.
+    Auto,
+    /// The inverse of the matrix's diagonal: cheap per iteration, slow to
+    /// converge where the springs are stiff against the masses.
     Jacobi,
     /// The factored `M + dt² L` (the springs' graph Laplacian): costlier per
     /// iteration, far fewer iterations where the motion stretches the
     /// springs.
     Laplacian,
+    /// The springs' own Newton matrix `M - dt D - dt² K`, factored at
+    /// each linearisation: as stiff along each spring as the spring, and
+    /// only as stiff across it as its tension, so it gains where the motion
+    /// bends a cloth as much as where it stretches it.
+    Stiffness,
 }
 
 impl Preconditioner {
     /// The name in scene files.
     pub fn name(self) -> &'static str {
         match self {
+            Preconditioner::Auto => "auto",
             Preconditioner::Jacobi => "jacobi",
             Preconditioner::Laplacian => "laplacian",
+            Preconditioner::Stiffness => "stiffness",
         }
     }
 
     /// The preconditioner named `name`, if any.
     pub fn from_name(name: &str) -> Option<Self> {
-        [Preconditioner::Jacobi, Preconditioner::Laplacian]
-            .into_iter()
-            .find(|p| p.name() == name)
+        [
+            Preconditioner::Auto,
+            Preconditioner::Jacobi,
+            Preconditioner::Laplacian,
+            Preconditioner::Stiffness,
+        ]
+        .into_iter()
+        .find(|p| p.name() == name)
     }
 }
 
@@ -117,7 +136,7 @@ pub struct SolverSettings {
     pub newton_iterations: u32,
     /// Local/global iterations per step of the projective solver. Default 10.
     pub iterations: u32,
-    /// Implicit Euler's preconditioner. Default Jacobi.
+    /// Implicit Euler's preconditioner. Default [`Preconditioner::Auto`].
     pub preconditioner: Preconditioner,
     /// `rk45`'s tolerance on the local error of each internal step: relative
     /// above 1 m (1 m/s), absolute below. Default 1e-6.
@@ -131,7 +150,7 @@ impl Default for SolverSettings {
             max_iterations: 1000,
             newton_iterations: 1,
             iterations: 10,
-            preconditioner: Preconditioner::Jacobi,
+            preconditioner: Preconditioner::Auto,
             error_tolerance: 1e-6,
         }
     }

@@ -1,0 +1,183 @@
+//! Implicit Euler's preconditioners (docs/simulation.md "Implicit
+//! solvers"). Claims: the stiffness factor is the Newton matrix of a world
+//! of springs, so each solve takes one iteration; it reaches the step the
+//! diagonal reaches; the default, auto, is Jacobi bit for bit where Jacobi
+//! converges within its budget, takes the factor where it would not, names
+//! its choice in the step's report, keeps it across a saved state, and gives
+//! the same bits on 1, 2 and 3 threads; and a step with the factor
+//! allocates nothing.
+//!
+//! The stiff cloths are those of `sprung bench`'s stiff group and of issue
+//! 35: 1 m square, springs of 2·10⁴ N/m, hanging from the two corners of
+//! their top edge, laid flat first so they swing down, stepped at the frame
+//! rate.
+
+mod common;
+
+use common::wind::largest_distance;
+use sprung::build::{self, ClothSprings};
+use sprung::integrate::Preconditioner;
+use sprung::{IntegratorKind, Real, Vec3, World};
+
+const FRAME: Real = 1.0 / 60.0; // s
+
+/// An `n × n` cloth of 1 m square weighing `total_mass` (kg) with springs
+/// of `stiffness` (N/m) and damping 0.5 N·s/m, laid flat and hanging from
+/// two corners, stepped by implicit Euler with `preconditioner`.
+fn cloth(n: usize, total_mass: Real, stiffness: Real, preconditioner: Preconditioner) -> World {
+    damped_cloth(n, total_mass, (stiffness, 0.5), preconditioner)
+}
+
+/// [`cloth`] with springs of `(stiffness, damping)` (N/m, N·s/m).
+fn damped_cloth(
+    n: usize,
+    total_mass: Real,
+    (stiffness, damping): (Real, Real),
+    preconditioner: Preconditioner,
+) -> World {
+    let body = build::cloth(n, n, 1.0, 1.0, ClothSprings::default())
+        .expect("valid cloth")
+        .with_mass(total_mass / (n * n) as Real)
+        .with_stiffness(stiffness)
+        .with_damping(damping)
+        .with_pinned(vec![n * (n - 1), n * n - 1])
+        .placed(1.0, Vec3::new(-90.0, 0.0, 0.0), Vec3::ZERO);
+    let mut world = World::new(IntegratorKind::ImplicitEuler);
+    world.add_body("cloth", body).expect("valid body");
+    world.settings.solver.preconditioner = preconditioner;
+    world
+}
+
+/// The issue's light cloth: 0.2 kg, where `dt² k / m` is about 3·10⁴ at
+/// 16²: Jacobi needs hundreds of iterations a step.
+fn light_cloth(preconditioner: Preconditioner) -> World {
+    cloth(16, 0.2, 2e4, preconditioner)
+}
+
+#[test]
+fn the_stiffness_factor_is_the_springs_newton_matrix() {
+    // Springs and gravity alone: gravity has no Jacobian, so the factor of
+    // the springs' M - dt D - dt² K is the solve's very matrix, and
+    // conjugate gradients end after one iteration at the rounding of the
+    // back-substitution (the factor's condition, about dt² k / m = 3·10⁴,
+    // times 1e-16, well under the asked 1e-9).
+    let mut world = light_cloth(Preconditioner::Stiffness);
+    world.settings.solver.tolerance = 1e-9;
+    for step in 1..=30 {
+        let report = world.step(FRAME).expect("stable");
+        assert_eq!(report.iterations, Some(1), "step {step}");
+        assert!(report.residual.is_some_and(|r| r <= 1e-9), "step {step}");
+        assert_eq!(report.preconditioner, Some(Preconditioner::Stiffness));
+    }
+}
+
+#[test]
+fn the_stiffness_factor_and_jacobi_reach_the_same_step() {
+    // The preconditioner changes the path, not the system: solved to a
+    // relative residual of 1e-12, the velocities agree to the residual
+    // times the system's condition number (below dt² k / m · 12 springs a
+    // particle ≈ 4·10⁵ here): we claim 1e-6 of the largest speed.
+    let run = |preconditioner| {
+        let mut world = light_cloth(preconditioner);
+        world.settings.solver.tolerance = 1e-12;
+        world.settings.solver.max_iterations = 100_000;
+        for _ in 0..5 {
+            let report = world.step(FRAME).expect("stable");
+            assert!(!report.unconverged);
+        }
+        world
+    };
+    let (jacobi, factored) = (run(Preconditioner::Jacobi), run(Preconditioner::Stiffness));
+    let velocity = &jacobi.particles.velocity;
+    let speed = velocity.iter().map(|v| v.length()).fold(0.0, Real::max);
+    let gap = largest_distance(velocity, &factored.particles.velocity);
+    assert!(speed > 0.1, "the cloth swings: {speed} m/s");
+    assert!(gap <= 1e-6 * speed, "{gap} m/s apart");
+}
+
+#[test]
+fn auto_is_jacobi_bit_for_bit_where_jacobi_is_cheaper() {
+    // A soft, lightly damped cloth (10 N/m, 0.01 N·s/m, particles of 2 g):
+    // Jacobi converges in under 32 iterations a step (measured), below the
+    // factor's budget for 16² (about 40), so auto never factors and its
+    // steps are Jacobi's to the bit.
+    let run = |preconditioner| {
+        let mut world = damped_cloth(16, 0.512, (10.0, 0.01), preconditioner);
+        let mut chosen = Vec::new();
+        for _ in 0..30 {
+            chosen.push(world.step(FRAME).expect("stable").preconditioner);
+        }
+        (world, chosen)
+    };
+    let (auto, chosen) = run(Preconditioner::Auto);
+    let (jacobi, _) = run(Preconditioner::Jacobi);
+    assert!(chosen.iter().all(|&c| c == Some(Preconditioner::Jacobi)));
+    assert_eq!(auto.particles.position, jacobi.particles.position);
+    assert_eq!(auto.particles.velocity, jacobi.particles.velocity);
+    assert_eq!(auto.solver_stats().unconverged_steps, 0);
+}
+
+#[test]
+fn auto_takes_the_factor_where_jacobi_would_cost_more_and_keeps_it() {
+    // The light cloth: Jacobi's iterations pass the factor's budget within
+    // a few steps (a step's solve is then done again with the factor);
+    // from then on every step takes the factor, one iteration each, and
+    // no step is left unconverged.
+    let mut world = light_cloth(Preconditioner::Auto);
+    let chosen: Vec<_> = (0..30)
+        .map(|_| world.step(FRAME).expect("stable"))
+        .collect();
+    let first = chosen
+        .iter()
+        .position(|r| r.preconditioner == Some(Preconditioner::Stiffness))
+        .expect("auto takes the factor");
+    assert!(first < 10, "took it at step {}", first + 1);
+    for report in &chosen[first + 1..] {
+        assert_eq!(report.preconditioner, Some(Preconditioner::Stiffness));
+        assert_eq!(report.iterations, Some(1));
+    }
+    assert_eq!(world.solver_stats().unconverged_steps, 0);
+}
+
+#[test]
+fn a_resumed_run_keeps_autos_choice() {
+    // Saved after auto took the factor, a run resumed in a fresh world goes
+    // on with it, and ends on the bits of the run that was not stopped.
+    let mut whole = light_cloth(Preconditioner::Auto);
+    let mut first = light_cloth(Preconditioner::Auto);
+    for _ in 0..15 {
+        whole.step(FRAME).expect("stable");
+        first.step(FRAME).expect("stable");
+    }
+    let saved = first.save_state();
+    let mut resumed = light_cloth(Preconditioner::Auto);
+    resumed.restore_state(&saved).expect("same scene");
+    for _ in 0..15 {
+        let report = whole.step(FRAME).expect("stable");
+        assert_eq!(report.preconditioner, Some(Preconditioner::Stiffness));
+        let report = resumed.step(FRAME).expect("stable");
+        assert_eq!(report.iterations, Some(1), "no Jacobi trial again");
+    }
+    assert_eq!(whole.particles.position, resumed.particles.position);
+    assert_eq!(whole.particles.velocity, resumed.particles.velocity);
+}
+
+#[test]
+fn the_factored_steps_are_the_same_on_any_number_of_threads() {
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool");
+        let mut world = cloth(24, 0.2, 2e4, Preconditioner::Auto);
+        pool.install(|| {
+            for _ in 0..10 {
+                world.step(FRAME).expect("stable");
+            }
+        });
+        world.particles.position
+    };
+    let one = run(1);
+    assert_eq!(one, run(2));
+    assert_eq!(one, run(3));
+}
