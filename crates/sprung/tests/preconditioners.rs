@@ -17,7 +17,7 @@ mod common;
 use common::wind::largest_distance;
 use sprung::build::{self, ClothSprings};
 use sprung::integrate::Preconditioner;
-use sprung::{IntegratorKind, Real, Vec3, World};
+use sprung::{BodyData, IntegratorKind, Real, Vec3, World};
 
 const FRAME: Real = 1.0 / 60.0; // s
 
@@ -180,4 +180,52 @@ fn the_factored_steps_are_the_same_on_any_number_of_threads() {
     let one = run(1);
     assert_eq!(one, run(2));
     assert_eq!(one, run(3));
+}
+
+#[test]
+fn worlds_with_nothing_to_factor_step_under_every_preconditioner() {
+    // Every particle pinned (an empty matrix), a particle with no springs
+    // (the factor is the mass alone), and a rope: each preconditioner
+    // steps them, the free particle falling as gravity says (a world
+    // without springs has a linear system that every preconditioner solves
+    // in at most one iteration).
+    for preconditioner in [
+        Preconditioner::Auto,
+        Preconditioner::Jacobi,
+        Preconditioner::Laplacian,
+        Preconditioner::Stiffness,
+    ] {
+        let mut pinned = World::new(IntegratorKind::ImplicitEuler);
+        pinned
+            .add_body("cloth", cloth_body(4).with_pinned((0..16).collect()))
+            .expect("valid body");
+        let mut alone = World::new(IntegratorKind::ImplicitEuler);
+        alone
+            .add_body("point", BodyData::from_positions(vec![Vec3::ZERO]))
+            .expect("valid body");
+        for world in [&mut pinned, &mut alone] {
+            world.settings.solver.preconditioner = preconditioner;
+            for _ in 0..3 {
+                let report = world.step(FRAME).expect("steps");
+                assert!(report.iterations.is_some_and(|i| i <= 1));
+                assert!(!report.unconverged);
+            }
+        }
+        assert!(pinned.particles.velocity.iter().all(|v| *v == Vec3::ZERO));
+        // Backward Euler from rest under g: v_n = -n g dt, x_3 = -6 g dt².
+        let fallen = alone.particles.position[0].y;
+        let expected = 6.0 * sprung::world::DEFAULT_GRAVITY.y * FRAME * FRAME;
+        assert!(
+            (fallen - expected).abs() < 1e-12,
+            "{preconditioner:?}: {fallen}"
+        );
+    }
+}
+
+/// A 1 m square `n × n` cloth of 1 g particles and 100 N/m springs.
+fn cloth_body(n: usize) -> BodyData {
+    build::cloth(n, n, 1.0, 1.0, ClothSprings::default())
+        .expect("valid cloth")
+        .with_mass(0.001)
+        .with_stiffness(100.0)
 }
