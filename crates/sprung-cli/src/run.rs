@@ -333,7 +333,7 @@ fn unconverged_warning(scene: &Scene, chosen: Option<Preconditioner>) -> String 
 /// stiffness factor.
 fn factored_note(scene: &Scene) -> String {
     format!(
-        "step {} (t = {} s): implicit_euler's auto preconditioner took the springs' stiffness factor from here on: Jacobi needed more iterations than a step with the factor costs (`preconditioner` in [sim] chooses one)",
+        "step {} (t = {} s): implicit_euler's auto preconditioner took the springs' stiffness factor from here on: Jacobi needed more iterations than a step with the factor is estimated to cost (`preconditioner` in [sim] chooses one)",
         scene.world.steps(),
         Seconds(scene.world.time()),
     )

@@ -361,10 +361,12 @@ pub const ENERGY_LIMIT: Real = 1e290;
 /// Why an implicit solver could not take a step.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SolverError {
-    /// The projective solver's matrix `M + dt² L` could not be factored
-    /// (it should always be positive definite; this means non-finite
-    /// masses or stiffnesses).
-    #[error("the projective solver could not factor its matrix M + dt² L: {0}")]
+    /// A sparse Cholesky factorisation failed: the projective solver's and
+    /// the Laplacian preconditioner's `M + dt² L`, or the stiffness
+    /// preconditioner's `M - dt D - dt² K` of the springs (each should be
+    /// positive definite; this means non-finite masses or stiffnesses, or
+    /// too little memory for the factor).
+    #[error("an implicit solver could not factor its matrix (M + dt² L, or the springs' M - dt D - dt² K): {0}")]
     Factorization(String),
     /// The adaptive integrator could not keep its error estimate within the
     /// tolerance even with tiny steps (a non-finite or violently stiff

@@ -1,5 +1,5 @@
-//! Implicit Euler's preconditioners (docs/simulation.md "Implicit
-//! solvers"). Claims: the stiffness factor is the Newton matrix of a world
+//! Implicit Euler's preconditioners (docs/simulation.md "Stiff materials:
+//! the implicit integrators"). Claims: the stiffness factor is the Newton matrix of a world
 //! of springs, so each solve takes one iteration; it reaches the step the
 //! diagonal reaches; the default, auto, is Jacobi bit for bit where Jacobi
 //! converges within its budget, takes the factor where it would not, names
@@ -184,8 +184,8 @@ fn the_factored_steps_are_the_same_on_any_number_of_threads() {
 
 #[test]
 fn worlds_with_nothing_to_factor_step_under_every_preconditioner() {
-    // Every particle pinned (an empty matrix), a particle with no springs
-    // (the factor is the mass alone), and a rope: each preconditioner
+    // Every particle pinned (an empty matrix) and a particle with no
+    // springs (the factor is the mass alone): each preconditioner
     // steps them, the free particle falling as gravity says (a world
     // without springs has a linear system that every preconditioner solves
     // in at most one iteration).

@@ -178,7 +178,8 @@ pub(crate) struct SimTable {
     /// Local/global iterations per step (projective).
     #[serde(default)]
     pub iterations: Option<u32>,
-    /// Implicit Euler's preconditioner: "jacobi" or "laplacian".
+    /// Implicit Euler's preconditioner: "auto", "jacobi", "laplacian" or
+    /// "stiffness".
     #[serde(default)]
     pub preconditioner: Option<String>,
     /// rk45's local error tolerance.

@@ -293,9 +293,12 @@ impl Integrator for ImplicitEuler {
             let (preconditioner, trial) = match solver.preconditioner {
                 Preconditioner::Auto if self.factored => (Preconditioner::Stiffness, None),
                 Preconditioner::Auto => {
+                    // A factor dearer than the most iterations a solve may
+                    // take is never worth it (and may be large: a big 3D
+                    // body's fill): Jacobi then, as the limits say.
                     let budget = stiffness::prepared(factors.1, &*system)?.budget();
-                    let limit = budget.min(solver.max_iterations);
-                    (Preconditioner::Jacobi, Some(limit))
+                    let trial = (budget < solver.max_iterations).then_some(budget);
+                    (Preconditioner::Jacobi, trial)
                 }
                 chosen => (chosen, None),
             };
@@ -364,7 +367,17 @@ impl Integrator for ImplicitEuler {
 
     fn restore_history(&mut self, state: &WorldState, _particles: usize) -> Result<(), StateError> {
         // States saved before the auto preconditioner have none: Jacobi.
-        self.factored = state.get_any(FACTORED).is_ok_and(|v| v == [1.0]);
+        self.factored = match state.get_any(FACTORED) {
+            Err(_) => false,
+            Ok([flag]) if *flag == 0.0 || *flag == 1.0 => *flag == 1.0,
+            Ok(values) => {
+                return Err(StateError::BadValue {
+                    name: FACTORED.to_string(),
+                    index: 0,
+                    value: values.first().copied().unwrap_or(Real::NAN),
+                })
+            }
+        };
         Ok(())
     }
 }

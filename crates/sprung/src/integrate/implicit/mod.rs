@@ -33,7 +33,8 @@ pub enum Preconditioner {
     /// Jacobi while its solves cost less than a step with the stiffness
     /// factor would (the number of iterations a fixed cost model gives for
     /// the springs' pattern), the stiffness factor from the first solve
-    /// that needs more on (it is solved again with it). The default.
+    /// that needs more on (it is solved again with it); Jacobi throughout
+    /// where that budget is not below `max_iterations`. The default.
     Auto,
     /// The inverse of the matrix's diagonal: cheap per iteration, slow to
     /// converge where the springs are stiff against the masses.

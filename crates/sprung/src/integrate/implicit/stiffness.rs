@@ -203,7 +203,9 @@ impl Numeric {
                 column_start[column as usize + 1] as usize,
             );
             // The pattern holds every entry searched for: it was made from them.
-            let offset = row_index[start..end].binary_search(&row).unwrap_or(0);
+            let found = row_index[start..end].binary_search(&row);
+            debug_assert!(found.is_ok(), "entry ({row}, {column}) in the pattern");
+            let offset = found.unwrap_or(0);
             (start + offset) as u32
         };
         let between = (0..springs.len())
