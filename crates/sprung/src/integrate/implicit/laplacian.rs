@@ -14,12 +14,13 @@ use std::fmt;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
     SymmetricOrdering,
 };
 use faer::sparse::{SparseColMat, Triplet};
-use faer::{Conj, Mat, Par, Side};
+use faer::{Par, Side};
 
+use super::substitution::Substitution;
 use crate::error::SolverError;
 use crate::integrate::Derivative;
 use crate::parallel::Schedule;
@@ -71,10 +72,12 @@ pub(super) struct Factor {
     particle: Vec<u32>,
     symbolic: SymbolicCholesky<u32>,
     values: Vec<Real>,
-    /// Scratch of the back-substitutions: x and y together, and z.
-    solve_scratch: [MemBuffer; 2],
-    /// The right side of a solve, one column per axis.
-    right_side: Mat<Real>,
+    /// Per column of the factor (its order of the rows), the particle.
+    column_particle: Vec<u32>,
+    /// The substitutions' plan and buffers.
+    substitution: Substitution,
+    /// A solve's vector, in the factor's order.
+    work: Vec<Vec3>,
     /// The springs in blocks, for the Laplacian's products.
     springs: Schedule<2>,
 }
@@ -146,10 +149,14 @@ impl Factor {
             mass: mass.to_vec(),
             inverse_mass: inverse_mass.to_vec(),
         };
-        let (unknown, particle, symbolic) = match previous {
-            Some(p) if p.key.same_pattern(springs, inverse_mass) => {
-                (p.unknown, p.particle, p.symbolic)
-            }
+        let (unknown, particle, symbolic, column_particle, substitution) = match previous {
+            Some(p) if p.key.same_pattern(springs, inverse_mass) => (
+                p.unknown,
+                p.particle,
+                p.symbolic,
+                p.column_particle,
+                p.substitution,
+            ),
             _ => {
                 let mut unknown = vec![PINNED; mass.len()];
                 let mut particle = Vec::new();
@@ -160,14 +167,30 @@ impl Factor {
                     }
                 }
                 let matrix = global_matrix(dt, springs, mass, &unknown, particle.len())?;
+                let params = CholeskySymbolicParams::default();
                 let symbolic = factorize_symbolic_cholesky(
                     matrix.symbolic(),
                     Side::Lower,
                     SymmetricOrdering::Amd,
-                    CholeskySymbolicParams::default(),
+                    params,
                 )
                 .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
-                (unknown, particle, symbolic)
+                let substitution = match symbolic.raw() {
+                    SymbolicCholeskyRaw::Supernodal(supernodal) => Substitution::new(supernodal),
+                    SymbolicCholeskyRaw::Simplicial(simplicial) => {
+                        Substitution::simplicial(simplicial)
+                    }
+                };
+                let column_particle = match symbolic.perm() {
+                    Some(perm) => perm
+                        .arrays()
+                        .0
+                        .iter()
+                        .map(|&row| particle[row as usize])
+                        .collect(),
+                    None => particle.clone(),
+                };
+                (unknown, particle, symbolic, column_particle, substitution)
             }
         };
         let matrix = global_matrix(dt, springs, mass, &unknown, particle.len())?;
@@ -187,12 +210,7 @@ impl Factor {
                 Default::default(),
             )
             .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
-        let scratch = |columns| {
-            MemBuffer::try_new(symbolic.solve_in_place_scratch::<Real>(columns, Par::Seq))
-                .map_err(|e| SolverError::Factorization(format!("{e:?}")))
-        };
-        let solve_scratch = [scratch(2)?, scratch(1)?];
-        let right_side = Mat::zeros(particle.len(), 3);
+        let work = vec![Vec3::ZERO; particle.len()];
         let members = springs.first().iter().zip(springs.second());
         let springs = Schedule::new(members.map(|(&i, &j)| [i, j]), mass.len());
         Ok(Factor {
@@ -202,8 +220,9 @@ impl Factor {
             particle,
             symbolic,
             values,
-            solve_scratch,
-            right_side,
+            column_particle,
+            substitution,
+            work,
         })
     }
 
@@ -234,34 +253,16 @@ impl Factor {
         });
     }
 
-    /// `z = (M + dt² L)⁻¹ r` over the free particles; zero for pinned ones.
+    /// `z = (M + dt² L)⁻¹ r` over the free particles; zero for pinned ones
+    /// (the x, y and z axes at once, [`Substitution`]).
     pub(super) fn solve(&mut self, r: &[Vec3], z: &mut [Vec3]) {
-        for (row, &i) in self.particle.iter().enumerate() {
-            for (axis, value) in r[i as usize].to_array().into_iter().enumerate() {
-                self.right_side[(row, axis)] = value;
-            }
+        for (y, &i) in self.work.iter_mut().zip(&self.column_particle) {
+            *y = r[i as usize];
         }
-        // The three axes are independent back-substitutions with the one
-        // factor, each serial. x and y go through it together (the factor,
-        // which bounds a substitution, read once for both: two columns cost
-        // little more than one), z beside them on the pool. The grouping is
-        // fixed, not chosen by the number of threads: faer's arithmetic on
-        // a column depends on how many columns go with it (measured on the
-        // 128² cloth), and the bits must not depend on the threads.
-        let factor = LltRef::new(&self.symbolic, &self.values);
-        let solve = |column: faer::MatMut<'_, Real>, scratch: &mut MemBuffer| {
-            factor.solve_in_place_with_conj(Conj::No, column, Par::Seq, MemStack::new(scratch));
-        };
-        let (xy, z_axis) = self.right_side.as_mut().split_at_col_mut(2);
-        let [sxy, sz] = &mut self.solve_scratch;
-        rayon::join(|| solve(xy, sxy), || solve(z_axis, sz));
+        self.substitution.solve(&self.values, &mut self.work);
         z.fill(Vec3::ZERO);
-        for (row, &i) in self.particle.iter().enumerate() {
-            z[i as usize] = Vec3::new(
-                self.right_side[(row, 0)],
-                self.right_side[(row, 1)],
-                self.right_side[(row, 2)],
-            );
+        for (y, &i) in self.work.iter().zip(&self.column_particle) {
+            z[i as usize] = *y;
         }
     }
 }

@@ -15,6 +15,7 @@ mod euler;
 mod laplacian;
 mod projective;
 mod stiffness;
+mod substitution;
 
 pub use euler::ImplicitEuler;
 pub use projective::Projective;

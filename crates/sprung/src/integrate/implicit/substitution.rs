@@ -1,0 +1,606 @@
+//! The forward and back substitutions of the factored `M + dt² L`
+//! ([`Factor`](super::laplacian::Factor)) for particle vectors: the x, y
+//! and z right sides together, over faer's supernodal factor, with its
+//! elimination tree cut into subtrees that threads solve side by side.
+//!
+//! A substitution reads the whole factor once forwards and once back, and
+//! at a few hundred thousand values and up that reading is its cost. The
+//! three axes share the factor, so each value read serves three
+//! multiply-adds here; faer's own solve, called per group of columns,
+//! reads the factor again for each group.
+//!
+//! **Side by side, and the same bits.** A supernode's forward step writes
+//! only to rows of its ancestors, and its backward step reads only them.
+//! The supernodes near the root (the *top*) are set apart until the rest
+//! falls into [`BINS`] groups of whole subtrees of about equal size, each a
+//! range of columns. Forwards, each bin writes its own columns and adds
+//! its pushes on the top's columns into a sum of its own; the top's rows
+//! then take the bins' sums in bin order, and the top is solved in order.
+//! Backwards, the top is solved first, then each bin reads it. The cut
+//! depends on the factor's pattern alone, so every particle's arithmetic
+//! is the same on any number of threads.
+
+use std::ops::Range;
+
+use faer::sparse::linalg::cholesky::simplicial::SymbolicSimplicialCholesky;
+use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
+
+use crate::{Real, Vec3};
+
+/// Groups of subtrees solved side by side (fixed, not the threads', so that
+/// the arithmetic does not depend on them).
+pub const BINS: usize = 2;
+
+/// The fewest values in the factor for its tree to be cut: below, one
+/// thread's substitution takes little more than the threads would cost.
+const SPLIT_VALUES: usize = 1 << 17;
+
+/// Marks a column that is not the top's.
+const NOT_TOP: u32 = u32::MAX;
+
+/// The substitutions' plan: the factor's supernodes, the cut of its tree
+/// and the buffers.
+#[derive(Debug, Default)]
+pub(super) struct Substitution {
+    /// Supernode `s` holds the columns `column[s]..column[s + 1]`.
+    column: Vec<usize>,
+    /// Its rows below its diagonal block: `rows[row_start[s]..row_start[s + 1]]`.
+    row_start: Vec<usize>,
+    rows: Vec<u32>,
+    /// How many of its rows below are not the top's: they come first, as
+    /// the rows are in order and the top's columns are last on any path
+    /// to the root.
+    inside: Vec<usize>,
+    /// Where its values start in the factor's values (column-major, its
+    /// width's rows of the diagonal block, then `rows`).
+    value_start: Vec<usize>,
+    /// The groups of whole subtrees solved side by side.
+    bins: Vec<Bin>,
+    /// The supernodes above the bins, in order.
+    top: Vec<u32>,
+    /// Per column, its place among the top's columns, or [`NOT_TOP`].
+    top_slot: Vec<u32>,
+    /// The top's columns' values, read by the bins backwards.
+    top_values: Vec<Vec3>,
+}
+
+/// A group of whole subtrees: their supernodes in order, over a range of
+/// columns, with its sum of pushes on the top's columns.
+#[derive(Debug, Default)]
+struct Bin {
+    supernodes: Vec<u32>,
+    columns: Range<usize>,
+    pushes: Vec<Vec3>,
+}
+
+/// One supernode's values and rows.
+struct Supernode<'a> {
+    /// Its width (columns).
+    width: usize,
+    /// Its rows below the diagonal block.
+    rows: &'a [u32],
+    /// How many of them are not the top's (they come first).
+    inside: usize,
+    /// Its values, column-major, `width + rows.len()` rows.
+    values: &'a [Real],
+}
+
+impl Supernode<'_> {
+    /// `L_s` forwards: its own entries `own` (its columns) solved, each
+    /// push `a v` on a row below subtracted from `below[row - end]` (`end`
+    /// its last column + 1) or, for the top's rows, handed to `top(row, a v)`.
+    fn forward(
+        &self,
+        own: &mut [Vec3],
+        (below, end): (&mut [Vec3], usize),
+        mut top: impl FnMut(u32, Vec3),
+    ) {
+        let height = self.width + self.rows.len();
+        let (inside, outside) = self.rows.split_at(self.inside);
+        for j in 0..self.width {
+            let column = &self.values[j * height..(j + 1) * height];
+            let v = own[j] / column[j];
+            own[j] = v;
+            for (o, &a) in own[j + 1..].iter_mut().zip(&column[j + 1..self.width]) {
+                *o -= a * v;
+            }
+            let (near, far) = column[self.width..].split_at(self.inside);
+            for (&row, &a) in inside.iter().zip(near) {
+                below[row as usize - end] -= a * v;
+            }
+            for (&row, &a) in outside.iter().zip(far) {
+                top(row, a * v);
+            }
+        }
+    }
+
+    /// `L_sᵀ` backwards: its own entries solved, the rows below read from
+    /// `below[row - end]` or, for the top's rows, by `top(row)`.
+    fn backward(
+        &self,
+        own: &mut [Vec3],
+        (below, end): (&[Vec3], usize),
+        top: impl Fn(u32) -> Vec3,
+    ) {
+        let height = self.width + self.rows.len();
+        let (inside, outside) = self.rows.split_at(self.inside);
+        for j in (0..self.width).rev() {
+            let column = &self.values[j * height..(j + 1) * height];
+            let mut v = own[j];
+            for (o, &a) in own[j + 1..].iter().zip(&column[j + 1..self.width]) {
+                v -= a * *o;
+            }
+            let (near, far) = column[self.width..].split_at(self.inside);
+            for (&row, &a) in inside.iter().zip(near) {
+                v -= a * below[row as usize - end];
+            }
+            for (&row, &a) in outside.iter().zip(far) {
+                v -= a * top(row);
+            }
+            own[j] = v / column[j];
+        }
+    }
+}
+
+impl Substitution {
+    /// The plan for the factor `symbolic` (postordered, as faer makes it).
+    pub fn new(symbolic: &SymbolicSupernodalCholesky<u32>) -> Substitution {
+        Self::cut_from(symbolic, SPLIT_VALUES)
+    }
+
+    /// The plan for a simplicial factor (faer makes one where there is
+    /// nothing to join into supernodes, one particle say): a supernode per
+    /// column, its diagonal value first.
+    pub fn simplicial(symbolic: &SymbolicSimplicialCholesky<u32>) -> Substitution {
+        let factor = symbolic.factor();
+        let size = symbolic.nrows();
+        let col_ptr: Vec<usize> = factor.col_ptr().iter().map(|&p| p as usize).collect();
+        let mut plan = Substitution {
+            column: (0..=size).collect(),
+            row_start: Vec::with_capacity(size + 1),
+            value_start: col_ptr.clone(),
+            top_slot: vec![NOT_TOP; size],
+            ..Substitution::default()
+        };
+        plan.row_start.push(0);
+        for j in 0..size {
+            let rows = &factor.row_idx()[col_ptr[j]..col_ptr[j + 1]];
+            plan.rows.extend(rows.iter().filter(|&&r| r as usize != j));
+            plan.row_start.push(plan.rows.len());
+        }
+        plan.cut(0, usize::MAX);
+        plan
+    }
+
+    /// The plan, its tree cut when the factor has at least `split` values.
+    fn cut_from(symbolic: &SymbolicSupernodalCholesky<u32>, split: usize) -> Substitution {
+        let count = symbolic.n_supernodes();
+        let mut plan = Substitution {
+            column: Vec::with_capacity(count + 1),
+            row_start: Vec::with_capacity(count + 1),
+            value_start: symbolic.col_ptr_for_val()[..=count]
+                .iter()
+                .map(|&v| v as usize)
+                .collect(),
+            top_slot: vec![NOT_TOP; symbolic.nrows()],
+            ..Substitution::default()
+        };
+        plan.row_start.push(0);
+        for s in 0..count {
+            let supernode = symbolic.supernode(s);
+            plan.column.push(supernode.start());
+            plan.rows.extend_from_slice(supernode.pattern());
+            plan.row_start.push(plan.rows.len());
+        }
+        plan.column.push(symbolic.nrows());
+        plan.cut(symbolic.len_val(), split);
+        plan
+    }
+
+    /// Supernode `s` of the factor `values`.
+    fn supernode<'a>(&'a self, s: usize, values: &'a [Real]) -> Supernode<'a> {
+        Supernode {
+            width: self.column[s + 1] - self.column[s],
+            rows: &self.rows[self.row_start[s]..self.row_start[s + 1]],
+            inside: self.inside[s],
+            values: &values[self.value_start[s]..self.value_start[s + 1]],
+        }
+    }
+
+    /// Cut the tree: the top and the bins (see the module's documentation);
+    /// one bin of everything when the factor is small or its subtrees are
+    /// not ranges of supernodes.
+    fn cut(&mut self, values: usize, split: usize) {
+        let count = self.column.len() - 1;
+        let mut owner = vec![0; self.top_slot.len()];
+        for s in 0..count {
+            owner[self.column[s]..self.column[s + 1]].fill(s);
+        }
+        let parent: Vec<Option<usize>> = (0..count)
+            .map(|s| {
+                let (from, to) = (self.row_start[s], self.row_start[s + 1]);
+                (from < to).then(|| owner[self.rows[from] as usize])
+            })
+            .collect();
+        // Each subtree's values and first supernode.
+        let mut weight: Vec<usize> = self.value_start.windows(2).map(|w| w[1] - w[0]).collect();
+        let mut first: Vec<usize> = (0..count).collect();
+        let mut size = vec![1; count];
+        let mut ranges = true;
+        for s in 0..count {
+            if let Some(p) = parent[s] {
+                ranges &= p > s;
+                weight[p] += weight[s];
+                first[p] = first[p].min(first[s]);
+                size[p] += size[s];
+            }
+        }
+        ranges &= (0..count).all(|s| size[s] == s - first[s] + 1);
+        let mut roots: Vec<usize> = (0..count).filter(|&s| parent[s].is_none()).collect();
+        let mut top = Vec::new();
+        let split = ranges && values >= split;
+        if split {
+            let mut children = vec![Vec::new(); count];
+            for (s, p) in parent.iter().enumerate() {
+                if let Some(p) = *p {
+                    children[p].push(s);
+                }
+            }
+            // Set the heaviest subtree's root apart until the subtrees fall
+            // into BINS runs of about equal weight.
+            while let Some(&heaviest) = roots.iter().max_by_key(|&&r| (weight[r], r)) {
+                let loads = runs(&roots, &weight).map(|run| run.iter().map(|&r| weight[r]).sum());
+                let most = loads.into_iter().max().unwrap_or(0);
+                let total: usize = roots.iter().map(|&r| weight[r]).sum();
+                if 10 * most <= 11 * total.div_ceil(BINS) || weight[heaviest] * 8 * BINS < values {
+                    break;
+                }
+                roots.retain(|&r| r != heaviest);
+                roots.extend(&children[heaviest]);
+                roots.sort_unstable();
+                top.push(heaviest as u32);
+            }
+        }
+        top.sort_unstable();
+        let is_top = {
+            let mut is_top = vec![false; count];
+            top.iter().for_each(|&s| is_top[s as usize] = true);
+            is_top
+        };
+        self.bins = if split {
+            runs(&roots, &weight)
+                .into_iter()
+                .filter(|run| !run.is_empty())
+                .map(|run| {
+                    let (from, to) = (first[run[0]], run[run.len() - 1]);
+                    Bin {
+                        supernodes: (from..=to)
+                            .filter(|&s| !is_top[s])
+                            .map(|s| s as u32)
+                            .collect(),
+                        columns: self.column[from]..self.column[to + 1],
+                        pushes: Vec::new(),
+                    }
+                })
+                .collect()
+        } else {
+            vec![Bin {
+                supernodes: (0..count as u32).collect(),
+                columns: 0..self.top_slot.len(),
+                pushes: Vec::new(),
+            }]
+        };
+        let mut slot = 0;
+        for &s in &top {
+            for c in self.column[s as usize]..self.column[s as usize + 1] {
+                self.top_slot[c] = slot;
+                slot += 1;
+            }
+        }
+        self.inside = (0..count)
+            .map(|s| {
+                let rows = &self.rows[self.row_start[s]..self.row_start[s + 1]];
+                match is_top[s] {
+                    true => rows.len(),
+                    false => rows.partition_point(|&r| self.top_slot[r as usize] == NOT_TOP),
+                }
+            })
+            .collect();
+        self.top = top;
+        self.top_values = vec![Vec3::ZERO; slot as usize];
+        for bin in &mut self.bins {
+            bin.pushes = vec![Vec3::ZERO; slot as usize];
+        }
+    }
+
+    /// Solve `L Lᵀ y = b` in place (`y` holds `b`, in the factor's order of
+    /// columns), `values` the factor's.
+    pub fn solve(&mut self, values: &[Real], y: &mut [Vec3]) {
+        // Forwards: the bins side by side, then the top.
+        let mut bins = std::mem::take(&mut self.bins);
+        let this = &*self;
+        each_bin(&mut bins, y, 0, &|bin, own| {
+            bin.pushes.fill(Vec3::ZERO);
+            let offset = bin.columns.start;
+            for &s in &bin.supernodes {
+                let s = s as usize;
+                let (start, end) = (this.column[s] - offset, this.column[s + 1] - offset);
+                let (own_columns, below) = own.split_at_mut(end);
+                let pushes = &mut bin.pushes;
+                this.supernode(s, values).forward(
+                    &mut own_columns[start..],
+                    (below, end + offset),
+                    |row, push| pushes[this.top_slot[row as usize] as usize] += push,
+                );
+            }
+        });
+        for (slot, c) in self.top_columns().enumerate() {
+            for bin in &bins {
+                y[c] -= bin.pushes[slot];
+            }
+        }
+        self.solve_top(values, y);
+        // Backwards: the top, then the bins side by side reading it.
+        let mut top_values = std::mem::take(&mut self.top_values);
+        for (slot, c) in self.top_columns().enumerate() {
+            top_values[slot] = y[c];
+        }
+        let this = &*self;
+        each_bin(&mut bins, y, 0, &|bin, own| {
+            let offset = bin.columns.start;
+            for &s in bin.supernodes.iter().rev() {
+                let s = s as usize;
+                let (start, end) = (this.column[s] - offset, this.column[s + 1] - offset);
+                let (own_columns, below) = own.split_at_mut(end);
+                this.supernode(s, values).backward(
+                    &mut own_columns[start..],
+                    (&*below, end + offset),
+                    |row| top_values[this.top_slot[row as usize] as usize],
+                );
+            }
+        });
+        self.bins = bins;
+        self.top_values = top_values;
+    }
+
+    /// The top's columns, in the order of their slots.
+    fn top_columns(&self) -> impl Iterator<Item = usize> + '_ {
+        self.top
+            .iter()
+            .flat_map(|&s| self.column[s as usize]..self.column[s as usize + 1])
+    }
+
+    /// The top's supernodes forwards then backwards, in order: their rows
+    /// below are the top's own.
+    fn solve_top(&self, values: &[Real], y: &mut [Vec3]) {
+        for &s in &self.top {
+            let s = s as usize;
+            let (start, end) = (self.column[s], self.column[s + 1]);
+            let (head, below) = y.split_at_mut(end);
+            self.supernode(s, values)
+                .forward(&mut head[start..], (below, end), |_, _| ());
+        }
+        for &s in self.top.iter().rev() {
+            let s = s as usize;
+            let (start, end) = (self.column[s], self.column[s + 1]);
+            let (head, below) = y.split_at_mut(end);
+            self.supernode(s, values)
+                .backward(&mut head[start..], (&*below, end), |_| Vec3::ZERO);
+        }
+    }
+}
+
+/// `f(bin, its columns of y)` for each bin, side by side on the pool
+/// (`y` from column `at` on; the bins' columns are disjoint and in order).
+fn each_bin(
+    bins: &mut [Bin],
+    y: &mut [Vec3],
+    at: usize,
+    f: &(impl Fn(&mut Bin, &mut [Vec3]) + Sync),
+) {
+    let Some((first, rest)) = bins.split_first_mut() else {
+        return;
+    };
+    let (_, tail) = y.split_at_mut(first.columns.start - at);
+    let (own, tail) = tail.split_at_mut(first.columns.len());
+    let at = first.columns.end;
+    if rest.is_empty() {
+        f(first, own);
+    } else if rayon::current_num_threads() > 1 {
+        rayon::join(|| f(first, own), || each_bin(rest, tail, at, f));
+    } else {
+        f(first, own);
+        each_bin(rest, tail, at, f);
+    }
+}
+
+/// `roots` (in order) cut into [`BINS`] runs of consecutive roots, each run
+/// closed once it reaches its share of the weight.
+fn runs<'a>(roots: &'a [usize], weight: &[usize]) -> [&'a [usize]; BINS] {
+    let total: usize = roots.iter().map(|&r| weight[r]).sum();
+    let share = total.div_ceil(BINS).max(1);
+    let mut out: [&[usize]; BINS] = [&[]; BINS];
+    let (mut start, mut load, mut bin) = (0, 0, 0);
+    for (k, &r) in roots.iter().enumerate() {
+        load += weight[r];
+        if load >= share && bin + 1 < BINS {
+            out[bin] = &roots[start..=k];
+            (start, load, bin) = (k + 1, 0, bin + 1);
+        }
+    }
+    out[bin] = &roots[start..];
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::cholesky::llt::factor::LltRegularization;
+    use faer::sparse::linalg::cholesky::{
+        factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholeskyRaw,
+        SymmetricOrdering,
+    };
+    use faer::sparse::linalg::SupernodalThreshold;
+    use faer::sparse::{SparseColMat, Triplet};
+    use faer::{Conj, Mat, Par, Side};
+
+    /// A cloth's `M + dt² L`: an `n × n` grid, springs to the 8 neighbours
+    /// and the second ones along the rows and columns, `dt² k = 5.6 kg`,
+    /// `m = 1e-5 kg` (the stiff 128² cloth's ratio).
+    fn cloth_matrix(n: usize) -> SparseColMat<u32, Real> {
+        let (h2k, m) = (5.6, 1e-5);
+        let at = |i: usize, j: usize| (i * n + j) as u32;
+        let mut diagonal = vec![m; n * n];
+        let mut entries = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let mut pairs = vec![];
+                if j + 1 < n {
+                    pairs.push(at(i, j + 1));
+                }
+                if i + 1 < n {
+                    pairs.push(at(i + 1, j));
+                }
+                if i + 1 < n && j + 1 < n {
+                    pairs.push(at(i + 1, j + 1));
+                }
+                if i + 1 < n && j > 0 {
+                    pairs.push(at(i + 1, j - 1));
+                }
+                if j + 2 < n {
+                    pairs.push(at(i, j + 2));
+                }
+                if i + 2 < n {
+                    pairs.push(at(i + 2, j));
+                }
+                for b in pairs {
+                    let a = at(i, j);
+                    diagonal[a as usize] += h2k;
+                    diagonal[b as usize] += h2k;
+                    entries.push(Triplet::new(a.max(b), a.min(b), -h2k));
+                }
+            }
+        }
+        entries.extend(
+            diagonal
+                .iter()
+                .enumerate()
+                .map(|(r, &d)| Triplet::new(r as u32, r as u32, d)),
+        );
+        SparseColMat::try_new_from_triplets(n * n, n * n, &entries).unwrap()
+    }
+
+    /// The cut tree's substitutions give faer's own solve of the same
+    /// factor, to the rounding of the solve: the factor's condition number
+    /// here is about `8 · 4 · 5.6 / 1e-5 ≈ 2e6`, so solves that order
+    /// their sums differently agree to about `2e6 · 1e-16` of the
+    /// solution's size; 1e-9 leaves a margin, and an entry misplaced or
+    /// a push lost would be off by order one.
+    #[test]
+    fn the_cut_substitution_is_faers_solve() {
+        for threshold in [
+            SupernodalThreshold::FORCE_SUPERNODAL,
+            SupernodalThreshold::FORCE_SIMPLICIAL,
+        ] {
+            substitution_is_faers_solve(threshold);
+        }
+    }
+
+    fn substitution_is_faers_solve(threshold: SupernodalThreshold) {
+        let matrix = cloth_matrix(40);
+        let size = matrix.nrows();
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: threshold,
+            ..Default::default()
+        };
+        let symbolic = factorize_symbolic_cholesky(
+            matrix.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            params,
+        )
+        .unwrap();
+        let mut values = vec![0.0; symbolic.len_val()];
+        let mut scratch = MemBuffer::new(
+            symbolic.factorize_numeric_llt_scratch::<Real>(Par::Seq, Default::default()),
+        );
+        symbolic
+            .factorize_numeric_llt(
+                &mut values,
+                matrix.as_ref(),
+                Side::Lower,
+                LltRegularization::default(),
+                Par::Seq,
+                MemStack::new(&mut scratch),
+                Default::default(),
+            )
+            .unwrap();
+
+        let right = |r: usize| {
+            Vec3::new(
+                (r % 7) as Real - 3.0,
+                (r % 5) as Real,
+                1.0 - (r % 3) as Real,
+            )
+        };
+        let mut expected = Mat::<Real>::zeros(size, 3);
+        for r in 0..size {
+            for (axis, value) in right(r).to_array().into_iter().enumerate() {
+                expected[(r, axis)] = value;
+            }
+        }
+        let mut solve_scratch =
+            MemBuffer::new(symbolic.solve_in_place_scratch::<Real>(3, Par::Seq));
+        LltRef::new(&symbolic, &values).solve_in_place_with_conj(
+            Conj::No,
+            expected.as_mut(),
+            Par::Seq,
+            MemStack::new(&mut solve_scratch),
+        );
+        let order = symbolic.perm().unwrap().arrays().0.to_vec();
+        let largest = (0..size)
+            .flat_map(|r| (0..3).map(move |a| (r, a)))
+            .map(|(r, a)| expected[(r, a)].abs())
+            .fold(0.0, Real::max);
+        let plans = match symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(supernodal) => vec![
+                (usize::MAX, Substitution::cut_from(supernodal, usize::MAX)),
+                (1, Substitution::cut_from(supernodal, 1)),
+            ],
+            SymbolicCholeskyRaw::Simplicial(simplicial) => {
+                vec![(usize::MAX, Substitution::simplicial(simplicial))]
+            }
+        };
+        for (split, mut plan) in plans {
+            if split == 1 {
+                assert_eq!(plan.bins.len(), BINS, "the tree is cut");
+                assert!(!plan.top.is_empty());
+            } else {
+                assert_eq!((plan.bins.len(), plan.top.len()), (1, 0));
+            }
+            let mut y: Vec<Vec3> = order.iter().map(|&p| right(p as usize)).collect();
+            let b = y.clone();
+            plan.solve(&values, &mut y);
+            // The same bits on 2 and 3 threads as on the one here.
+            for threads in [2, 3] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let mut again = b.clone();
+                pool.install(|| plan.solve(&values, &mut again));
+                assert_eq!(again, y, "split {split}, {threads} threads");
+            }
+            for (k, &p) in order.iter().enumerate() {
+                for (axis, value) in y[k].to_array().into_iter().enumerate() {
+                    let off = (value - expected[(p as usize, axis)]).abs();
+                    assert!(
+                        off <= 1e-9 * largest,
+                        "split {split}: row {p} axis {axis} off by {off}"
+                    );
+                }
+            }
+        }
+    }
+}
