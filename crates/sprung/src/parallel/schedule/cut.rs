@@ -5,7 +5,7 @@
 
 use std::ops::Range;
 
-use super::{Schedule, COLOUR_BLOCK, COLOUR_PIECE, MIN_BLOCKS};
+use super::{Schedule, COLOUR_BLOCK, COLOUR_PIECE, FINE_BLOCKS, FINE_ELEMENTS, MIN_BLOCKS};
 use crate::parallel::CHUNK;
 
 /// The colour of the elements that found none free among 64 (a colour is
@@ -59,7 +59,17 @@ impl<const W: usize> Schedule<W> {
             .map(|m| highest(m) - lowest(m))
             .max()
             .unwrap_or(0);
-        let block = (span + 1).max(CHUNK);
+        // Blocks of a chunk of particles; where that leaves fewer than
+        // MIN_BLOCKS, and there are elements enough for FINE_BLOCKS blocks
+        // of FINE_ELEMENTS (a body of a few thousand particles), that many
+        // blocks, so that two threads still share its phases.
+        let coarse = (span + 1).max(CHUNK);
+        let fine = members.len() >= FINE_BLOCKS * FINE_ELEMENTS;
+        let block = if fine && particles.div_ceil(coarse) < MIN_BLOCKS {
+            (span + 1).max(particles.div_ceil(FINE_BLOCKS))
+        } else {
+            coarse
+        };
         let blocks = particles.div_ceil(block).max(1);
         if members.len() <= CHUNK || blocks >= MIN_BLOCKS || particles <= 2 * CHUNK {
             let block_of = |m: &[u32; W]| (lowest(m) / block).min(blocks - 1);

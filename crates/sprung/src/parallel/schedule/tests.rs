@@ -176,6 +176,23 @@ fn a_grid_numbered_along_rows_is_cut_by_neighbourhood_in_place() {
 }
 
 #[test]
+fn a_body_of_a_few_thousand_particles_is_cut_finer_than_a_chunk() {
+    // 64² = one chunk of particles and 19 969 springs: a block a chunk
+    // would leave one block, run on one thread; it gets FINE_BLOCKS of
+    // 512 particles (wider than a spring's span of 2 rows, 128), two phases
+    // of four. 128² = four chunks keeps its blocks of a chunk, and a
+    // body of at most a chunk of springs (20², 1 841) its one block.
+    for (side, blocks) in [(64, FINE_BLOCKS), (128, 4), (20, 1)] {
+        let springs = grid(side);
+        let particles = (side * side) as usize;
+        let schedule = check(&springs, particles);
+        assert_eq!(schedule.blocks.len(), blocks, "{side}²");
+        assert_eq!(schedule.phases.len(), 2, "{side}²");
+        assert_phases_disjoint(&schedule, particles);
+    }
+}
+
+#[test]
 fn a_shuffled_numbering_is_cut_by_colour() {
     let side = 160;
     let relabel = shuffled(side * side);
