@@ -29,10 +29,14 @@ use std::ops::Range;
 ///   larger than the widest span of particle indices of an element, so its
 ///   writes stay in `[b B, (b + 2) B)`; the even blocks form one phase, the
 ///   odd ones the next. A thread streams through neighbouring particles.
-/// - **by colour**, when that gives fewer than [`MIN_BLOCKS`] blocks over
-///   more than two chunks of particles (a mesh whose vertices are numbered
-///   in no local order; a smaller scene keeps its one or two blocks, run
-///   in order on one thread, faster than colours). Greedy colouring: each
+///   `B` is a chunk of particles, or, where that leaves fewer than
+///   [`MIN_BLOCKS`] blocks and there are at least [`FINE_BLOCKS`] ×
+///   [`FINE_ELEMENTS`] elements, an eighth of the particles (a body of a
+///   few thousand, shared by two threads).
+/// - **by colour**, when that still gives fewer than [`MIN_BLOCKS`] blocks
+///   over more than two chunks of particles (a mesh whose vertices are
+///   numbered in no local order; a smaller scene keeps its one or two
+///   blocks, run in order on one thread, faster than colours). Greedy colouring: each
 ///   *piece* of [`COLOUR_PIECE`] elements in a row, in order, takes the
 ///   first of 64 colours that none of its particles has yet; a colour is a
 ///   phase, each of its pieces a block, so the elements keep their order
