@@ -50,7 +50,12 @@ impl Sim {
     /// (so the caller can look at its signals); the steps taken, and the
     /// error that stopped them, if any.
     pub fn step_for(&mut self, steps: u64, budget: Duration) -> (u64, Result<(), StepError>) {
-        let large = self.scene.world.particles.len() >= sprung::parallel::CHUNK;
+        let (particles, springs) = (
+            self.scene.world.particles.len(),
+            self.scene.world.springs.len(),
+        );
+        let large = particles >= sprung::parallel::CHUNK
+            || sprung::parallel::particle_span(springs, particles) < sprung::parallel::CHUNK;
         let (world, dt) = (&mut self.scene.world, self.scene.dt);
         let mut run = move || {
             let start = Instant::now();
@@ -66,7 +71,8 @@ impl Sim {
             }
             (steps, Ok(()))
         };
-        // A large world's loops start from the pool itself (see
+        // A large world's loops (a chunk of particles, or springs cut
+        // finer than one) start from the pool itself (see
         // `sprung::parallel::in_pool`); a small one's run here, paying
         // nothing for a hand-over.
         if large {

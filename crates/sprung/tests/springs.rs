@@ -166,9 +166,12 @@ fn a_large_grid_of_runs_in_blocks_pulls_as_each_spring_summed() {
 fn a_cloth_of_a_few_thousand_particles_steps_alike_on_one_two_and_three_threads() {
     // 48² particles, over 8192 springs: under a chunk of particles, so its
     // springs are cut into the schedule's finer blocks, two phases of
-    // blocks run side by side. Each particle still takes its springs in
-    // the same order: the same bits on any number of threads.
-    let run = |threads| {
+    // blocks run side by side, and each integrator's per-particle loops
+    // are cut into pieces of two such blocks (`parallel::particle_span`).
+    // Each particle still takes its springs in the same order and each
+    // update writes its own particle: the same bits on any number of
+    // threads, under every explicit integrator.
+    let run = |kind, threads| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
@@ -178,9 +181,11 @@ fn a_cloth_of_a_few_thousand_particles_steps_alike_on_one_two_and_three_threads(
             .with_mass(1e-3)
             .with_stiffness(100.0)
             .with_pinned(vec![0, 47]);
-        let mut world = World::new(IntegratorKind::SymplecticEuler);
+        let mut world = World::new(kind);
         world.add_body("cloth", cloth).expect("valid body");
         assert!(world.springs.len() >= 8192, "enough springs to cut finer");
+        let span = sprung::parallel::particle_span(world.springs.len(), world.particles.len());
+        assert_eq!(span, 2 * 48 * 48 / 8, "loops in pieces of two fine blocks");
         world.set_gravity(Vec3::new(0.0, -9.81, 0.0));
         let start = world.particles.position.clone();
         let dt = 0.5 * world.stable_time_step();
@@ -190,9 +195,17 @@ fn a_cloth_of_a_few_thousand_particles_steps_alike_on_one_two_and_three_threads(
             }
         });
         assert_ne!(world.particles.position, start, "the cloth moved");
-        world.particles.position
+        (world.particles.position, world.particles.velocity)
     };
-    let one = run(1);
-    assert_eq!(one, run(2));
-    assert_eq!(one, run(3));
+    for kind in [
+        IntegratorKind::SymplecticEuler,
+        IntegratorKind::Euler,
+        IntegratorKind::Midpoint,
+        IntegratorKind::Rk4,
+        IntegratorKind::Verlet,
+    ] {
+        let one = run(kind, 1);
+        assert!(one == run(kind, 2), "{kind:?}: 2 threads");
+        assert!(one == run(kind, 3), "{kind:?}: 3 threads");
+    }
 }

@@ -21,17 +21,43 @@
 
 mod schedule;
 
+use std::cell::Cell;
 use std::ops::Range;
 
 use rayon::prelude::*;
 
 use crate::Real;
 
+pub use schedule::particle_span;
 pub(crate) use schedule::{scatter_in_order, Block, Elements, Schedule, ScheduleCache, Writer};
 
 /// The number of elements a thread takes at a time, and the chunk of the
 /// fixed-order sums.
 pub const CHUNK: usize = 4096;
+
+thread_local! {
+    /// The most entries of a piece of [`for_each_span`] on this thread
+    /// ([`with_span`]).
+    static SPAN: Cell<usize> = const { Cell::new(CHUNK) };
+}
+
+/// Run `job` with the per-particle loops it starts on this thread
+/// ([`for_each_span`]) cut into pieces of at most `span` entries (at
+/// least 8, at most [`CHUNK`]) instead of [`CHUNK`]: a world whose springs
+/// are cut finer than a chunk ([`particle_span`]) updates each particle on
+/// the thread that added its forces. The pieces change no result, only
+/// which thread computes it.
+pub fn with_span<R>(span: usize, job: impl FnOnce() -> R) -> R {
+    /// Puts the span back however `job` ends.
+    struct Restore(usize);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            SPAN.with(|s| s.set(self.0));
+        }
+    }
+    let _restore = Restore(SPAN.with(|s| s.replace(span.clamp(8, CHUNK))));
+    job()
+}
 
 /// The most threads the engine runs on: far beyond any machine it is
 /// made for; each thread costs a stack, and tens of thousands of them took
@@ -481,22 +507,26 @@ pub(crate) fn for_each_range<T: Send>(
 }
 
 /// Call `f(start, spans)` on pieces of `slices` (of at most [`CHUNK`]
-/// entries, cut at multiples of it), in parallel; `start` is the index of
-/// the piece's first entry. A loop over particles that writes each
-/// particle's own entries: the result does not depend on the threads.
+/// entries, cut at multiples of it, or of the span [`with_span`] set on
+/// this thread), in parallel; `start` is the index of the piece's first
+/// entry. A loop over particles that writes each particle's own entries:
+/// the result does not depend on the threads.
 #[doc(hidden)]
 pub fn for_each_span<S: SplitMut>(slices: S, f: impl Fn(usize, S) + Sync) {
-    fn run<S: SplitMut>(slices: S, start: usize, f: &(impl Fn(usize, S) + Sync)) {
+    fn run<S: SplitMut>(slices: S, start: usize, span: usize, f: &(impl Fn(usize, S) + Sync)) {
         let len = slices.len();
-        if len <= CHUNK {
+        if len <= span {
             f(start, slices);
         } else {
-            let mid = len.div_ceil(CHUNK).div_ceil(2) * CHUNK;
+            let mid = len.div_ceil(span).div_ceil(2) * span;
             let (left, right) = slices.split_at(mid);
-            rayon::join(|| run(left, start, f), || run(right, start + mid, f));
+            rayon::join(
+                || run(left, start, span, f),
+                || run(right, start + mid, span, f),
+            );
         }
     }
-    run(slices, 0, &f);
+    run(slices, 0, SPAN.with(Cell::get), &f);
 }
 
 #[cfg(test)]
@@ -534,6 +564,54 @@ mod tests {
             });
             assert_eq!(shares, 1);
         }
+    }
+
+    #[test]
+    fn a_span_cuts_the_particle_loops_into_its_pieces_and_is_put_back() {
+        // Claim: under `with_span(1024, ..)` `for_each_span` hands out
+        // pieces of 4 000 entries of at most 1 024, starting at multiples
+        // of 1 024, that cover every entry once with its own index (4 000:
+        // four pieces, the last short); without a span, or after one (even
+        // one left by a panic), a slice of a chunk is one piece.
+        let pieces = |out: &mut [usize]| {
+            let starts = std::sync::Mutex::new(Vec::new());
+            for_each_span(out, |start, piece: &mut [usize]| {
+                starts
+                    .lock()
+                    .expect("not poisoned")
+                    .push((start, piece.len()));
+                for (k, entry) in piece.iter_mut().enumerate() {
+                    *entry += start + k + 1;
+                }
+            });
+            let mut starts = starts.into_inner().expect("not poisoned");
+            starts.sort_unstable();
+            starts
+        };
+        for threads in [1, 2, 3] {
+            Pool::new(threads).expect("a pool").install(|| {
+                let mut out = vec![0; 4000];
+                let cut = with_span(1024, || pieces(&mut out));
+                assert_eq!(cut, [(0, 1024), (1024, 1024), (2048, 1024), (3072, 928)]);
+                assert!(out.iter().enumerate().all(|(i, &e)| e == i + 1));
+                assert_eq!(pieces(&mut vec![0; CHUNK]), [(0, CHUNK)]);
+                let panicked = std::panic::catch_unwind(|| with_span(8, || panic!("inside")));
+                assert!(panicked.is_err());
+                assert_eq!(pieces(&mut vec![0; CHUNK]), [(0, CHUNK)], "put back");
+            });
+        }
+    }
+
+    #[test]
+    fn the_particle_loops_are_cut_finer_only_where_the_springs_are() {
+        // Claim: a 64² cloth's 19 969 springs (cut into eight blocks of
+        // 512 particles) give its loops pieces of two blocks; a 128² cloth
+        // (four chunks), a rope of 3 000 particles and 2 999 springs (one
+        // block) and a 20² cloth (too few springs) keep pieces of a chunk.
+        assert_eq!(particle_span(19_969, 64 * 64), 1024);
+        assert_eq!(particle_span(80_000, 128 * 128), CHUNK);
+        assert_eq!(particle_span(2_999, 3_000), CHUNK);
+        assert_eq!(particle_span(1_841, 400), CHUNK);
     }
 
     #[test]

@@ -94,6 +94,32 @@ pub const FINE_BLOCKS: usize = 8;
 /// two threads as on one).
 pub const FINE_ELEMENTS: usize = 1024;
 
+/// Whether `elements` over `particles` are cut into [`FINE_BLOCKS`]
+/// blocks: blocks of `coarse` particles would be fewer than
+/// [`MIN_BLOCKS`], and there are at least [`FINE_ELEMENTS`] elements a
+/// fine block.
+pub(crate) fn cut_finer(elements: usize, particles: usize, coarse: usize) -> bool {
+    elements >= FINE_BLOCKS * FINE_ELEMENTS && particles.div_ceil(coarse) < MIN_BLOCKS
+}
+
+/// The particles a piece of a per-particle loop holds
+/// ([`super::for_each_span`], [`super::with_span`]) in a world of
+/// `springs` springs over `particles` particles: where the springs are cut
+/// into the eight finer blocks of neighbouring particles (a body of a few
+/// thousand particles and at least 8192 springs), two blocks' worth
+/// (the particles a thread writes in both phases when four share them, or
+/// two of its pieces when two do), so that each thread updates the
+/// particles whose forces it added, still in its cache; else
+/// [`super::CHUNK`]. A hint of speed only: a per-particle loop writes the
+/// same bits whatever its pieces.
+pub fn particle_span(springs: usize, particles: usize) -> usize {
+    if cut_finer(springs, particles, super::CHUNK) {
+        (2 * particles.div_ceil(FINE_BLOCKS)).next_multiple_of(8)
+    } else {
+        super::CHUNK
+    }
+}
+
 /// Elements coloured together (in their order) when the schedule is cut by
 /// colour: a few pages of their particles and parameters, which a thread
 /// streams through as stored instead of gathering a colour's elements from

@@ -33,8 +33,10 @@ impl World {
     /// tolerance is counted in [`World::solver_stats`].
     ///
     /// Called from outside the engine's pool of threads, the step of a
-    /// world of more than [`parallel::CHUNK`] particles (whose loops are
-    /// shared among threads) is handed to the pool at once
+    /// world of more than [`parallel::CHUNK`] particles, or of a few
+    /// thousand whose springs are cut finer than a chunk (whose loops are
+    /// shared among threads, [`parallel::particle_span`]), is handed to
+    /// the pool at once
     /// ([`parallel::in_pool`]) rather than each of its parallel loops one
     /// by one, the caller waiting each time; a smaller world, whose loops
     /// mostly run on the calling thread, steps right there (a hand-over
@@ -64,8 +66,11 @@ impl World {
     /// ```
     pub fn step(&mut self, dt: Real) -> Result<StepReport, StepError> {
         self.timer.begin_step();
-        let report = if self.particles.len() > parallel::CHUNK {
-            parallel::in_pool(|| self.step_here(dt))
+        let span = parallel::particle_span(self.springs.len(), self.particles.len());
+        let report = if self.particles.len() > parallel::CHUNK
+            || (span < parallel::CHUNK && parallel::threads() > 1)
+        {
+            parallel::in_pool(|| parallel::with_span(span, || self.step_here(dt)))
         } else {
             self.step_here(dt)
         };

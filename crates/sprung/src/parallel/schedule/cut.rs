@@ -5,7 +5,7 @@
 
 use std::ops::Range;
 
-use super::{Schedule, COLOUR_BLOCK, COLOUR_PIECE, FINE_BLOCKS, FINE_ELEMENTS, MIN_BLOCKS};
+use super::{cut_finer, Schedule, COLOUR_BLOCK, COLOUR_PIECE, FINE_BLOCKS, MIN_BLOCKS};
 use crate::parallel::CHUNK;
 
 /// The colour of the elements that found none free among 64 (a colour is
@@ -64,8 +64,7 @@ impl<const W: usize> Schedule<W> {
         // of FINE_ELEMENTS (a body of a few thousand particles), that many
         // blocks, so that two threads still share its phases.
         let coarse = (span + 1).max(CHUNK);
-        let fine = members.len() >= FINE_BLOCKS * FINE_ELEMENTS;
-        let block = if fine && particles.div_ceil(coarse) < MIN_BLOCKS {
+        let block = if cut_finer(members.len(), particles, coarse) {
             (span + 1).max(particles.div_ceil(FINE_BLOCKS))
         } else {
             coarse
