@@ -83,6 +83,90 @@ fn demos_report_a_real_time_factor_each() {
 }
 
 #[test]
+fn goals_stand_beside_the_figures_before_them_and_their_targets() {
+    // `--goals` prints issue 35's goals 1 to 4 and writes them as CSV:
+    // each figure measured (finite, positive), its target, whether it is
+    // met (the figure against the bound, as written; a ratio of rounds by
+    // its lowest round), and a figure before
+    // it where one exists: the Jacobi preconditioner's, measured in this
+    // run, for implicit_euler; the issue's record for the kernel.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let csv = dir.path().join("goals.csv");
+    let path = csv.to_str().expect("utf-8 path");
+    let args = [
+        "--threads",
+        "2",
+        "bench",
+        "--goals",
+        "--quick",
+        "--csv",
+        path,
+    ];
+    let output = sprung(&args, dir.path());
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let table = std::fs::read_to_string(&csv).expect("the CSV is written");
+    let mut lines = table.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let column = |name: &str| {
+        header
+            .iter()
+            .position(|&h| h == name)
+            .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
+    };
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert!(rows.iter().all(|r| r.len() == header.len()), "ragged CSV");
+    for goal in ["1", "2", "3", "4"] {
+        assert!(
+            rows.iter().any(|r| r[column("goal")] == goal),
+            "no goal {goal}"
+        );
+    }
+    for row in &rows {
+        let now: f64 = row[column("now")].parse().expect("a number");
+        let target: f64 = row[column("target")].parse().expect("a number");
+        assert!(now > 0.0 && now.is_finite(), "{row:?}");
+        // A paired ratio (2 threads over 1, in rounds) is over its bound
+        // only when its lowest round is.
+        let lowest: f64 = row[column("lowest")].parse().unwrap_or(now);
+        let met = match row[column("bound")] {
+            "at_most" => lowest <= target,
+            "at_least" => now >= target,
+            other => panic!("bound {other}"),
+        };
+        assert_eq!(row[column("met")], met.to_string(), "{row:?}");
+        assert_eq!(
+            row[column("threads")],
+            if row[column("figure")].contains("MuJoCo") {
+                "1"
+            } else {
+                "2"
+            }
+        );
+    }
+    let met = rows.iter().filter(|r| r[column("met")] == "true").count();
+    let summary = format!("goals met: {met} of {}", rows.len());
+    assert!(
+        text(&output.stdout).contains(&summary),
+        "no {summary:?} printed"
+    );
+    let jacobi = rows
+        .iter()
+        .filter(|r| r[column("before_from")] == "this run; Jacobi pc.")
+        .count();
+    assert_eq!(
+        jacobi, 4,
+        "implicit_euler at 128² and the three sizes vs MuJoCo"
+    );
+    assert!(rows
+        .iter()
+        .any(|r| r[column("figure")].contains("spring updates")
+            && r[column("before")].parse::<f64>() == Ok(9.2e8)));
+    // --goals and --demos are two different runs.
+    let both = sprung(&["bench", "--goals", "--demos", "--quick"], dir.path());
+    assert_eq!(both.status.code(), Some(2));
+}
+
+#[test]
 fn bench_refuses_impossible_options() {
     let dir = tempfile::tempdir().expect("temp dir");
     // Malformed option values are usage errors (status 2), as for every

@@ -6,12 +6,14 @@
 //! of the threads, the simulated seconds per wall-clock second, the peak
 //! heap and the bytes a step allocates ([`memory`]). `--compare` times the
 //! textbook loop on the cloths ([`mod@reference`]); `--demos` the real-time
-//! factor of every demo ([`demos`]); the header gives the memory bandwidth
+//! factor of every demo ([`demos`]); `--goals` the speed issue's goals
+//! beside the figures before them ([`goals`]); the header gives the memory bandwidth
 //! of a STREAM triad ([`stream`]), the bound of the streaming loops.
 
 mod cases;
 mod contacts;
 mod demos;
+mod goals;
 pub mod memory;
 mod reference;
 mod stiff_cloth;
@@ -81,6 +83,11 @@ pub struct BenchArgs {
     /// factor (simulated seconds per wall-clock second).
     #[arg(long)]
     demos: bool,
+    /// Instead, time the goals of the speed issue (35): each figure in
+    /// this run beside the previous turn's (the old default measured
+    /// again, or the figure the issue recorded) and the goal's target.
+    #[arg(long, conflicts_with = "demos")]
+    goals: bool,
     /// Small cases and short timings: checks that the bench runs, measures
     /// nothing.
     #[arg(long)]
@@ -189,6 +196,9 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     if args.demos {
         let least = if args.quick { 0.0 } else { seconds.max(1.0) };
         return all_pool.install(|| demos::run(steps, least));
+    }
+    if args.goals {
+        return goals::run(&one_pool, &all_pool, args.quick, args.csv.as_deref());
     }
     let sizes = if args.quick {
         vec![8, 16]
