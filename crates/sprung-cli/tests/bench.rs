@@ -7,6 +7,34 @@ mod common;
 
 use common::{sprung, text};
 
+/// A CSV table the bench wrote, its rows all as long as its header.
+struct Table {
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    fn read(path: &std::path::Path) -> Table {
+        let text = std::fs::read_to_string(path).expect("the CSV is written");
+        let mut lines = text
+            .lines()
+            .map(|l| l.split(',').map(String::from).collect::<Vec<_>>());
+        let header = lines.next().expect("a header");
+        let rows: Vec<Vec<String>> = lines.collect();
+        assert!(rows.iter().all(|r| r.len() == header.len()), "ragged CSV");
+        Table { header, rows }
+    }
+
+    /// The index of the column `name`.
+    fn column(&self, name: &str) -> usize {
+        let header = &self.header;
+        header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
+    }
+}
+
 #[test]
 fn quick_bench_writes_every_group_on_one_and_two_threads_and_steps_allocate_nothing() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -24,17 +52,8 @@ fn quick_bench_writes_every_group_on_one_and_two_threads_and_steps_allocate_noth
         dir.path(),
     );
     assert!(output.status.success(), "{}", text(&output.stderr));
-    let table = std::fs::read_to_string(&csv).expect("the CSV is written");
-    let mut lines = table.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-    let column = |name: &str| {
-        header
-            .iter()
-            .position(|&h| h == name)
-            .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
-    };
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    assert!(rows.iter().all(|r| r.len() == header.len()), "ragged CSV");
+    let table = Table::read(&csv);
+    let (rows, column) = (&table.rows, |name: &str| table.column(name));
     for group in ["cloth", "integrators", "gas", "stiff", "contact", "give"] {
         for threads in ["1", "2"] {
             assert!(
@@ -44,7 +63,7 @@ fn quick_bench_writes_every_group_on_one_and_two_threads_and_steps_allocate_noth
             );
         }
     }
-    for row in &rows {
+    for row in rows {
         // Every integrator, every case: a step allocates nothing once the
         // warm-up steps sized the buffers (and the solvers factored).
         assert_eq!(
@@ -104,31 +123,22 @@ fn goals_stand_beside_the_figures_before_them_and_their_targets() {
     ];
     let output = sprung(&args, dir.path());
     assert!(output.status.success(), "{}", text(&output.stderr));
-    let table = std::fs::read_to_string(&csv).expect("the CSV is written");
-    let mut lines = table.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-    let column = |name: &str| {
-        header
-            .iter()
-            .position(|&h| h == name)
-            .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
-    };
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    assert!(rows.iter().all(|r| r.len() == header.len()), "ragged CSV");
+    let table = Table::read(&csv);
+    let (rows, column) = (&table.rows, |name: &str| table.column(name));
     for goal in ["1", "2", "3", "4"] {
         assert!(
             rows.iter().any(|r| r[column("goal")] == goal),
             "no goal {goal}"
         );
     }
-    for row in &rows {
+    for row in rows {
         let now: f64 = row[column("now")].parse().expect("a number");
         let target: f64 = row[column("target")].parse().expect("a number");
         assert!(now > 0.0 && now.is_finite(), "{row:?}");
         // A paired ratio (2 threads over 1, in rounds) is over its bound
         // only when its lowest round is.
         let lowest: f64 = row[column("lowest")].parse().unwrap_or(now);
-        let met = match row[column("bound")] {
+        let met = match row[column("bound")].as_str() {
             "at_most" => lowest <= target,
             "at_least" => now >= target,
             other => panic!("bound {other}"),

@@ -7,50 +7,52 @@
 
 use sprung::build::{self, ClothSprings};
 use sprung::integrate::Preconditioner;
-use sprung::{IntegratorKind, Real, Vec3, World};
+use sprung::{BodyData, IntegratorKind, Real, Vec3, World};
 
 use crate::run::CliError;
 
 /// The frame step the implicit solvers take (s).
 pub const FRAME: Real = 1.0 / 60.0;
 
-/// The stiff cloth of `size × size` particles (1 m square) for `kind`.
+/// The stiff cloth of `size × size` particles (1 m square) for `kind`:
+/// particles of 2 g, damping 0.01 N·s/m.
 pub fn stiff_cloth(size: usize, kind: IntegratorKind) -> Result<World, CliError> {
-    let cloth = build::cloth(size, size, 1.0, 1.0, ClothSprings::default())
-        .map_err(|e| CliError::Input(format!("stiff cloth {size}: {e}")))?
-        .with_mass(0.002)
-        .with_stiffness(2e4)
-        .with_damping(0.01)
-        .with_pinned(vec![size * (size - 1), size * size - 1])
-        .placed(1.0, Vec3::new(-90.0, 0.0, 0.0), Vec3::ZERO);
-    let mut world = World::new(kind);
-    world
-        .add_body("cloth", cloth)
-        .map_err(|e| CliError::Input(e.to_string()))?;
-    Ok(world)
+    hung(size, kind, Preconditioner::Auto, |cloth| {
+        cloth.with_mass(0.002).with_damping(0.01)
+    })
 }
 
 /// Issue 35's light stiff cloth of `size × size` particles (1 m square,
-/// 0.2 kg in all, springs of 2·10⁴ N/m damped 0.5 N·s/m), hung from the
-/// two corners of its top edge and swinging down from flat: the cloth its
-/// goals, and MuJoCo's figures, are measured on. `preconditioner` is
-/// `implicit_euler`'s.
+/// 0.2 kg in all, damped 0.5 N·s/m): the cloth its goals, and MuJoCo's
+/// figures, are measured on. `preconditioner` is `implicit_euler`'s.
 pub fn light_cloth(
     size: usize,
     kind: IntegratorKind,
     preconditioner: Preconditioner,
 ) -> Result<World, CliError> {
+    hung(size, kind, preconditioner, |cloth| {
+        cloth.with_total_mass(0.2).with_damping(0.5)
+    })
+}
+
+/// A cloth of `size × size` particles (1 m square, springs of 2·10⁴ N/m,
+/// its masses and damping set by `set`) hung from the two corners of its
+/// top edge, swinging down from flat, alone in a world of `kind`.
+fn hung(
+    size: usize,
+    kind: IntegratorKind,
+    preconditioner: Preconditioner,
+    set: impl FnOnce(BodyData) -> BodyData,
+) -> Result<World, CliError> {
     let cloth = build::cloth(size, size, 1.0, 1.0, ClothSprings::default())
-        .map_err(|e| CliError::Input(format!("light cloth {size}: {e}")))?
-        .with_total_mass(0.2)
+        .map_err(|e| CliError::Input(format!("stiff cloth {size}: {e}")))?
         .with_stiffness(2e4)
-        .with_damping(0.5)
         .with_pinned(vec![size * (size - 1), size * size - 1])
         .placed(1.0, Vec3::new(-90.0, 0.0, 0.0), Vec3::ZERO);
     let mut world = World::new(kind);
     world.settings.solver.preconditioner = preconditioner;
     world
-        .add_body("cloth", cloth)
+        .add_body("cloth", set(cloth))
         .map_err(|e| CliError::Input(e.to_string()))?;
     Ok(world)
 }
