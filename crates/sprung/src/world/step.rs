@@ -66,13 +66,15 @@ impl World {
     /// ```
     pub fn step(&mut self, dt: Real) -> Result<StepReport, StepError> {
         self.timer.begin_step();
+        // Its own span always, never one left by another world's step this
+        // thread was lent to while waiting (a Batch's worlds share threads).
         let span = parallel::particle_span(self.springs.len(), self.particles.len());
         let report = if self.particles.len() > parallel::CHUNK
             || (span < parallel::CHUNK && parallel::threads() > 1)
         {
             parallel::in_pool(|| parallel::with_span(span, || self.step_here(dt)))
         } else {
-            self.step_here(dt)
+            parallel::with_span(span, || self.step_here(dt))
         };
         self.timer.end_step();
         report
