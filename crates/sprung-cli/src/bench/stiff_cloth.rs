@@ -45,7 +45,7 @@ fn hung(
     set: impl FnOnce(BodyData) -> BodyData,
 ) -> Result<World, CliError> {
     let cloth = build::cloth(size, size, 1.0, 1.0, ClothSprings::default())
-        .map_err(|e| CliError::Input(format!("stiff cloth {size}: {e}")))?
+        .map_err(|e| CliError::Input(format!("hung cloth {size}: {e}")))?
         .with_stiffness(2e4)
         .with_pinned(vec![size * (size - 1), size * size - 1])
         .placed(1.0, Vec3::new(-90.0, 0.0, 0.0), Vec3::ZERO);
