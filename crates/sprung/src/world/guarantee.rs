@@ -29,24 +29,35 @@ impl World {
     /// may be passed through); where not, its buffer of start positions
     /// is emptied, so the stage does nothing.
     pub(super) fn mark_guarded(&mut self) -> bool {
-        let settings = &self.contacts.settings;
-        let bodies = settings.enabled && {
-            let colliding = self.bodies.iter().filter(|b| b.contact.collide).count();
-            colliding >= 2
-                || self
-                    .bodies
-                    .iter()
-                    .any(|b| b.contact.collide && b.contact.self_collision)
-        };
-        let spheres = self
-            .colliders
-            .iter()
-            .any(|c| matches!(c.shape_at(self.time), Shape::Sphere { .. }));
-        let guarded = settings.ccd && (bodies || spheres);
+        let guarded = self.is_guarded();
         if !guarded {
             self.ccd_start.clear();
         }
         guarded
+    }
+
+    /// Whether the guarantee that no particle passes through a surface
+    /// has work in this world: it is on (`ContactSettings::ccd`), and
+    /// bodies may meet each other or themselves, or a sphere collider may
+    /// be passed through.
+    pub fn is_guarded(&self) -> bool {
+        let spheres = self
+            .colliders
+            .iter()
+            .any(|c| matches!(c.shape_at(self.time), Shape::Sphere { .. }));
+        self.contacts.settings.ccd && (self.bodies_may_touch() || spheres)
+    }
+
+    /// Whether contact between bodies is on and has bodies to act on: two
+    /// that collide, or one that collides with itself.
+    pub fn bodies_may_touch(&self) -> bool {
+        let colliding = self.bodies.iter().filter(|b| b.contact.collide).count();
+        self.contacts.settings.enabled
+            && (colliding >= 2
+                || self
+                    .bodies
+                    .iter()
+                    .any(|b| b.contact.collide && b.contact.self_collision))
     }
 
     /// The ccd stage at the end of a (sub)step of `dt` (s): no particle

@@ -374,6 +374,47 @@ impl World {
         Ok(report)
     }
 
+    /// Count `steps` steps of `dt` (s) taken outside the engine (by the
+    /// GPU step, `sprung-gpu`) whose end state is already in
+    /// [`World::particles`]: the clock advances as that many calls of
+    /// [`World::step`] advance it (each substep's time added with the same
+    /// compensated sum, so the times are the same bits), and the state is
+    /// guarded as after a step (a particle past `max_distance` or
+    /// `max_speed`, or not finite, is the error of the last of them).
+    /// Substeps are counted as [`Substeps::Fixed`] says (one under
+    /// [`Substeps::Auto`], which the GPU step refuses).
+    ///
+    /// ```
+    /// use sprung::{IntegratorKind, Substeps, World};
+    ///
+    /// let mut stepped = World::new(IntegratorKind::Verlet);
+    /// stepped.settings.substeps = Substeps::Fixed(3);
+    /// for _ in 0..7 {
+    ///     stepped.step(0.1).unwrap();
+    /// }
+    /// let mut counted = World::new(IntegratorKind::Verlet);
+    /// counted.settings.substeps = Substeps::Fixed(3);
+    /// counted.took_steps(0.1, 7).unwrap();
+    /// assert_eq!((counted.time(), counted.steps()), (stepped.time(), stepped.steps()));
+    /// assert_eq!(counted.steps(), 7);
+    /// ```
+    pub fn took_steps(&mut self, dt: Real, steps: u64) -> Result<(), StepError> {
+        self.check_step(dt)?;
+        let substeps = match self.settings.substeps {
+            Substeps::Fixed(n) => n,
+            Substeps::Auto => 1,
+        };
+        let h = dt / Real::from(substeps);
+        for _ in 0..steps {
+            for _ in 0..substeps {
+                self.advance_time(h);
+            }
+            self.steps += 1;
+        }
+        self.last_report = StepReport::default();
+        self.guard(dt)
+    }
+
     pub(super) fn advance_time(&mut self, dt: Real) {
         let increment = dt - self.time_compensation;
         let time = self.time + increment;
