@@ -16,7 +16,10 @@
 #     browser test), xvfb (an X server without a screen, for the native
 #     window) and the Mesa libraries that give it OpenGL in software
 #     (libgl1, libglx-mesa0, libgl1-mesa-dri; libx11-6, libxi6 and
-#     libxkbcommon0 are loaded by the windowing library at run time);
+#     libxkbcommon0 are loaded by the windowing library at run time),
+#     and Mesa's software Vulkan driver (mesa-vulkan-drivers, with the
+#     loader libvulkan1) that runs the GPU step's tests on the CPU
+#     (SPRUNG_GPU_TESTS=require: they fail, not skip, without it);
 #   - the Rust target wasm32-unknown-unknown (rustup);
 #   - Playwright (`npm ci` in crates/sprung-viewer/web-tests, from its
 #     package-lock.json; it drives the Debian Chromium, it downloads no
@@ -30,7 +33,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(chromium xvfb libgl1 libglx-mesa0 libgl1-mesa-dri libx11-6 libxi6 libxkbcommon0)
+packages=(chromium xvfb libgl1 libglx-mesa0 libgl1-mesa-dri libx11-6 libxi6 libxkbcommon0
+  mesa-vulkan-drivers libvulkan1)
 missing=()
 for package in "${packages[@]}"; do
   if ! dpkg-query -W -f '${Status}' "$package" 2>/dev/null | grep -q "ok installed"; then
@@ -59,7 +63,7 @@ echo "== npm ci (crates/sprung-viewer/web-tests)"
 scripts/build-web.sh
 
 echo "== cargo test --workspace"
-cargo test --workspace "$@"
+SPRUNG_GPU_TESTS=require cargo test --workspace "$@"
 
 # The examples take an output folder as their argument where they write
 # files (flag.rs); the others ignore it.

@@ -1,0 +1,314 @@
+// The explicit step of sprung on the GPU (docs/gpu.md): one invocation a
+// particle, f32. The springs are gathered per particle over a compressed
+// adjacency (each particle reads its own springs, in a fixed order), so
+// nothing is added by two invocations at once and a run gives the same
+// bits every time. The formulas are the engine's (docs/physics.md §1, §5):
+// each kernel names the Rust function it follows.
+
+struct Collider {
+    // Plane: a point on it (xyz); sphere: the centre (xyz) and radius (w).
+    point: vec4<f32>,
+    // Plane: the unit outward normal (xyz).
+    normal: vec4<f32>,
+    // Projection: restitution, friction. Penalty: stiffness (N/m),
+    // damping (N·s/m), friction.
+    coefficients: vec4<f32>,
+    // x: shape (0 plane, 1 sphere); y: response (0 projection, 1 penalty).
+    kind: vec4<u32>,
+}
+
+struct Params {
+    // Particles, colliders.
+    count: u32,
+    colliders: u32,
+    // Rows of the dispatch grid (x) that make up one row of `count`.
+    row: u32,
+    pad: u32,
+    // Gravity's acceleration (m/s², xyz) and the air drag's coefficient
+    // (N·s/m, w).
+    gravity: vec4<f32>,
+    // The (sub)step (s), and the blow-up limits squared (m², m²/s²).
+    h: f32,
+    max_distance_squared: f32,
+    max_speed_squared: f32,
+    pad2: f32,
+    collider: array<Collider, 64>,
+}
+
+// One spring as its end `particle` sees it: the other end, the rest
+// length (m), stiffness (N/m) and damping (N·s/m).
+struct Link {
+    other: u32,
+    rest: f32,
+    stiffness: f32,
+    damping: f32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+// Positions (m, xyz) with the inverse mass (1/kg, w).
+@group(0) @binding(1) var<storage, read_write> x: array<vec4<f32>>;
+// Velocities (m/s, xyz) with the mass (kg, w).
+@group(0) @binding(2) var<storage, read_write> v: array<vec4<f32>>;
+// Forces (N, xyz).
+@group(0) @binding(3) var<storage, read_write> f: array<vec4<f32>>;
+// Particle i's springs are links[first[i]..first[i + 1]].
+@group(0) @binding(4) var<storage, read> first: array<u32>;
+@group(0) @binding(5) var<storage, read> links: array<Link>;
+// The integrators' own state, four blocks of `count`: RK4's start
+// position, start velocity, velocity sum and acceleration sum; Verlet's
+// previous position in the first.
+@group(0) @binding(6) var<storage, read_write> scratch: array<vec4<f32>>;
+// [0]: steps taken; [1]: the first step whose state blew up (1-based), or
+// 0xffffffff.
+@group(0) @binding(7) var<storage, read_write> status: array<atomic<u32>>;
+
+fn particle(id: vec3<u32>) -> u32 {
+    return id.x + id.y * params.row * 64u;
+}
+
+// Penalty colliders' force (colliders::penalty_force), static ones.
+fn penalty(p: vec3<f32>, u: vec3<f32>) -> vec3<f32> {
+    var force = vec3<f32>(0.0);
+    for (var c = 0u; c < params.colliders; c++) {
+        let collider = params.collider[c];
+        if collider.kind.y != 1u {
+            continue;
+        }
+        let near = distance_and_normal(collider, p);
+        if near.w < 0.0 {
+            let normal = near.xyz;
+            let normal_speed = dot(u, normal);
+            let k = collider.coefficients;
+            let push = max(-k.x * near.w - k.y * normal_speed, 0.0);
+            force += push * normal;
+            if k.z > 0.0 {
+                let sliding = u - normal_speed * normal;
+                // colliders::FRICTION_REGULARISATION.
+                let scale = sqrt(dot(sliding, sliding) + 0.01 * 0.01);
+                force -= k.z * push * sliding / scale;
+            }
+        }
+    }
+    return force;
+}
+
+// Shape::distance_and_normal: the outward normal (xyz) and the signed
+// distance (w, m).
+fn distance_and_normal(collider: Collider, p: vec3<f32>) -> vec4<f32> {
+    if collider.kind.x == 0u {
+        let normal = collider.normal.xyz;
+        return vec4<f32>(normal, dot(p - collider.point.xyz, normal));
+    }
+    let offset = p - collider.point.xyz;
+    let length = length(offset);
+    if length > 0.0 {
+        return vec4<f32>(offset / length, length - collider.point.w);
+    }
+    return vec4<f32>(0.0, 1.0, 0.0, -collider.point.w);
+}
+
+// The force on particle i (N): gravity, its springs (SpringForce, Hooke's
+// law and a dashpot along each), the penalty colliders and air drag.
+@compute @workgroup_size(64)
+fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = particle(id);
+    if i >= params.count {
+        return;
+    }
+    let xi = x[i].xyz;
+    let vi = v[i].xyz;
+    var force = v[i].w * params.gravity.xyz;
+    for (var e = first[i]; e < first[i + 1u]; e++) {
+        let link = links[e];
+        let d = xi - x[link.other].xyz;
+        let length = length(d);
+        if length > 0.0 {
+            let t = d / length;
+            let s = link.stiffness * (length - link.rest)
+                + link.damping * dot(vi - v[link.other].xyz, t);
+            force -= s * t;
+        }
+    }
+    force += penalty(xi, vi);
+    force -= params.gravity.w * vi;
+    f[i] = vec4<f32>(force, 0.0);
+}
+
+// Coulomb friction over one impulse (colliders::constraint::coulomb).
+fn coulomb(tangential: vec3<f32>, slowdown: f32) -> vec3<f32> {
+    let speed = length(tangential);
+    if speed > slowdown {
+        return tangential * (1.0 - slowdown / speed);
+    }
+    return vec3<f32>(0.0);
+}
+
+// The projection colliders (colliders::project, static ones) move a
+// particle out and reflect its velocity; then the guard (World::guard)
+// marks the step if the particle has blown up. `p`, `u` are updated.
+fn collide_and_guard(i: u32, p: ptr<function, vec3<f32>>, u: ptr<function, vec3<f32>>) {
+    if x[i].w != 0.0 {
+        for (var c = 0u; c < params.colliders; c++) {
+            let collider = params.collider[c];
+            if collider.kind.y != 0u {
+                continue;
+            }
+            let near = distance_and_normal(collider, *p);
+            if near.w >= 0.0 {
+                continue;
+            }
+            let normal = near.xyz;
+            *p -= near.w * normal;
+            let normal_speed = dot(*u, normal);
+            if normal_speed >= 0.0 {
+                continue;
+            }
+            let restitution = collider.coefficients.x;
+            let friction = collider.coefficients.y;
+            let tangential = *u - normal_speed * normal;
+            let kept = coulomb(tangential, friction * (1.0 + restitution) * -normal_speed);
+            *u = kept - restitution * normal_speed * normal;
+        }
+    }
+    // Not finite (the exponent's bits all set), or past a limit.
+    let bits = bitcast<vec3<u32>>(*p) & vec3<u32>(0x7f800000u);
+    let speed = bitcast<vec3<u32>>(*u) & vec3<u32>(0x7f800000u);
+    let inf = vec3<u32>(0x7f800000u);
+    if any(bits == inf) || any(speed == inf)
+        || dot(*p, *p) > params.max_distance_squared
+        || dot(*u, *u) > params.max_speed_squared {
+        atomicMin(&status[1], atomicLoad(&status[0]) + 1u);
+    }
+}
+
+// Symplectic Euler (integrate::symplectic_euler): v += f w h, x += v h.
+@compute @workgroup_size(64)
+fn symplectic(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = particle(id);
+    if i >= params.count {
+        return;
+    }
+    let h = params.h;
+    var u = v[i].xyz + f[i].xyz * x[i].w * h;
+    var p = x[i].xyz + u * h;
+    collide_and_guard(i, &p, &u);
+    x[i] = vec4<f32>(p, x[i].w);
+    v[i] = vec4<f32>(u, v[i].w);
+}
+
+// Verlet's first step (integrate::verlet, bootstrap): the last move,
+// x - x₋₁ = v h - a h² / 2. The kernels keep the move, not the previous
+// position as the engine does: the same sums in exact arithmetic, without
+// the cancellation of 2x - x₋₁ in f32.
+@compute @workgroup_size(64)
+fn verlet_start(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = particle(id);
+    if i >= params.count {
+        return;
+    }
+    let h = params.h;
+    let a = f[i].xyz * x[i].w;
+    scratch[i] = vec4<f32>(v[i].xyz * h - 0.5 * a * h * h, 0.0);
+}
+
+// Position Verlet with central velocities (integrate::verlet): the next
+// move is the last plus a h², the velocity (x₊₁ - x₋₁) / 2h + a h. A
+// collider that moves the particle or changes its velocity changes its
+// move as the engine's bootstrap does at the next step.
+@compute @workgroup_size(64)
+fn verlet(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = particle(id);
+    if i >= params.count {
+        return;
+    }
+    let h = params.h;
+    let a = f[i].xyz * x[i].w;
+    let last = scratch[i].xyz;
+    var step_move = last + a * (h * h);
+    let next = x[i].xyz + step_move;
+    let written = (last + step_move) / (2.0 * h) + a * h;
+    var p = next;
+    var u = written;
+    collide_and_guard(i, &p, &u);
+    // The engine's previous position moves by (p - next) - (u - written) h,
+    // so the move from it to p changes by (u - written) h.
+    step_move += (u - written) * h;
+    scratch[i] = vec4<f32>(step_move, 0.0);
+    x[i] = vec4<f32>(p, x[i].w);
+    v[i] = vec4<f32>(u, v[i].w);
+}
+
+// RK4's start (integrate::rk4): the state kept, the sums cleared.
+@compute @workgroup_size(64)
+fn rk4_begin(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = particle(id);
+    let n = params.count;
+    if i >= n {
+        return;
+    }
+    scratch[i] = x[i];
+    scratch[n + i] = v[i];
+    scratch[2u * n + i] = vec4<f32>(0.0);
+    scratch[3u * n + i] = vec4<f32>(0.0);
+}
+
+// One stage of RK4 with its weight in the sums and the offset of the next
+// trial state: x, v hold the trial state, f its force.
+fn rk4_stage(i: u32, weight: f32, next_offset: f32) {
+    let n = params.count;
+    let h = params.h;
+    let stage_velocity = v[i].xyz;
+    let stage_acceleration = f[i].xyz * x[i].w;
+    scratch[2u * n + i] += vec4<f32>(weight * stage_velocity, 0.0);
+    scratch[3u * n + i] += vec4<f32>(weight * stage_acceleration, 0.0);
+    x[i] = vec4<f32>(scratch[i].xyz + next_offset * h * stage_velocity, x[i].w);
+    v[i] = vec4<f32>(scratch[n + i].xyz + next_offset * h * stage_acceleration, v[i].w);
+}
+
+@compute @workgroup_size(64)
+fn rk4_stage1(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = particle(id);
+    if i < params.count {
+        rk4_stage(i, 1.0, 0.5);
+    }
+}
+
+@compute @workgroup_size(64)
+fn rk4_stage2(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = particle(id);
+    if i < params.count {
+        rk4_stage(i, 2.0, 0.5);
+    }
+}
+
+@compute @workgroup_size(64)
+fn rk4_stage3(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = particle(id);
+    if i < params.count {
+        rk4_stage(i, 2.0, 1.0);
+    }
+}
+
+// The last stage and the step: x = x₀ + h/6 Σ v, v = v₀ + h/6 Σ a.
+@compute @workgroup_size(64)
+fn rk4_end(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = particle(id);
+    let n = params.count;
+    if i >= n {
+        return;
+    }
+    let sixth = params.h / 6.0;
+    let sum_v = scratch[2u * n + i].xyz + v[i].xyz;
+    let sum_a = scratch[3u * n + i].xyz + f[i].xyz * x[i].w;
+    var p = scratch[i].xyz + sixth * sum_v;
+    var u = scratch[n + i].xyz + sixth * sum_a;
+    collide_and_guard(i, &p, &u);
+    x[i] = vec4<f32>(p, x[i].w);
+    v[i] = vec4<f32>(u, v[i].w);
+}
+
+// The step's count, after its last kernel.
+@compute @workgroup_size(1)
+fn tick() {
+    atomicAdd(&status[0], 1u);
+}

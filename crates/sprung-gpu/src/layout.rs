@@ -1,0 +1,208 @@
+//! A world's particles, springs and colliders laid out as the kernels read
+//! them (`kernels.wgsl`): f32, four to a particle, and each particle's
+//! springs in a compressed adjacency.
+
+use bytemuck::{Pod, Zeroable};
+use sprung::forces::{AirDrag, Gravity};
+use sprung::{ContactResponse, Shape, World};
+
+use crate::support::MAX_COLLIDERS;
+
+/// One spring as one of its ends sees it (`Link` in the kernels).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Link {
+    /// The particle at the other end.
+    pub other: u32,
+    /// Rest length (m).
+    pub rest: f32,
+    /// Stiffness (N/m).
+    pub stiffness: f32,
+    /// Damping along the spring (N·s/m).
+    pub damping: f32,
+}
+
+/// A collider as the kernels read it (`Collider` in the kernels).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuCollider {
+    /// Plane: a point on it (m); sphere: the centre (m) and radius (m, w).
+    pub point: [f32; 4],
+    /// Plane: the unit outward normal.
+    pub normal: [f32; 4],
+    /// Projection: restitution, friction; penalty: stiffness (N/m),
+    /// damping (N·s/m), friction.
+    pub coefficients: [f32; 4],
+    /// Shape (0 plane, 1 sphere) and response (0 projection, 1 penalty).
+    pub kind: [u32; 4],
+}
+
+/// The kernels' uniform block (`Params` in the kernels).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct Params {
+    /// Particles.
+    pub count: u32,
+    /// Colliders in use of [`Params::collider`].
+    pub colliders: u32,
+    /// Workgroups along x of the dispatch grid (each of 64 particles).
+    pub row: u32,
+    /// Padding.
+    pub pad: u32,
+    /// Gravity's acceleration (m/s², xyz) and the air drag coefficient
+    /// (N·s/m, w).
+    pub gravity: [f32; 4],
+    /// The (sub)step (s).
+    pub h: f32,
+    /// The blow-up distance squared (m²).
+    pub max_distance_squared: f32,
+    /// The blow-up speed squared (m²/s²).
+    pub max_speed_squared: f32,
+    /// Padding.
+    pub pad2: f32,
+    /// The colliders, in the world's order.
+    pub collider: [GpuCollider; MAX_COLLIDERS],
+}
+
+/// A world as the kernels read it.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    /// Positions (m) with the inverse mass (1/kg) as w.
+    pub position: Vec<[f32; 4]>,
+    /// Velocities (m/s) with the mass (kg) as w.
+    pub velocity: Vec<[f32; 4]>,
+    /// Particle `i`'s springs are `links[first[i]..first[i + 1]]`.
+    pub first: Vec<u32>,
+    /// Every spring once for each end it pushes (twice, or once for a
+    /// one-sided spring), by particle, in the springs' order.
+    pub links: Vec<Link>,
+    /// The uniform block, for a (sub)step of `h`.
+    pub params: Params,
+}
+
+/// Workgroups of 64 along x of the dispatch grid that covers `count`
+/// particles (at most 65 535 per dimension).
+pub fn grid(count: u32) -> (u32, u32) {
+    let groups = count.div_ceil(64).max(1);
+    let row = groups.min(65_535);
+    (row, groups.div_ceil(row))
+}
+
+/// Saturate an f64 into an f32 (a limit of 1e300 m stays a limit).
+fn narrow(value: f64) -> f32 {
+    value.clamp(-(f32::MAX as f64), f32::MAX as f64) as f32
+}
+
+impl Layout {
+    /// `world`'s state and springs for (sub)steps of `h` (s). The world is
+    /// one [`crate::support::check`] accepts.
+    pub fn of(world: &World, h: f64) -> Layout {
+        let particles = &world.particles;
+        let n = particles.len();
+        let position = (0..n)
+            .map(|i| {
+                let p = particles.position[i].as_vec3();
+                [p.x, p.y, p.z, particles.inverse_mass[i] as f32]
+            })
+            .collect();
+        let velocity = (0..n)
+            .map(|i| {
+                let u = particles.velocity[i].as_vec3();
+                [u.x, u.y, u.z, particles.mass[i] as f32]
+            })
+            .collect();
+        let springs = &world.springs;
+        let (ends_a, ends_b) = (springs.first(), springs.second());
+        let mut count = vec![0u32; n + 1];
+        let pushes = |s: usize| {
+            let live = !springs.is_broken(s);
+            (live && !springs.one_sided[s], live)
+        };
+        for s in 0..springs.len() {
+            let (a, b) = pushes(s);
+            count[ends_a[s] as usize + 1] += u32::from(a);
+            count[ends_b[s] as usize + 1] += u32::from(b);
+        }
+        for i in 0..n {
+            count[i + 1] += count[i];
+        }
+        let first = count.clone();
+        let mut next = count;
+        let blank = Link {
+            other: 0,
+            rest: 0.0,
+            stiffness: 0.0,
+            damping: 0.0,
+        };
+        let mut links = vec![blank; first[n] as usize];
+        for s in 0..springs.len() {
+            let (a, b) = pushes(s);
+            let spring = |other: u32| Link {
+                other,
+                rest: springs.rest_length[s] as f32,
+                stiffness: springs.stiffness[s] as f32,
+                damping: springs.damping[s] as f32,
+            };
+            for (push, at, other) in [(a, ends_a[s], ends_b[s]), (b, ends_b[s], ends_a[s])] {
+                if push {
+                    links[next[at as usize] as usize] = spring(other);
+                    next[at as usize] += 1;
+                }
+            }
+        }
+        let gravity = world
+            .forces
+            .get::<Gravity>()
+            .map_or(glam::Vec3::ZERO, |g| g.acceleration.as_vec3());
+        let drag = world.forces.get::<AirDrag>().map_or(0.0, |d| d.coefficient);
+        let mut collider = [GpuCollider::default(); MAX_COLLIDERS];
+        for (slot, c) in collider.iter_mut().zip(&world.colliders) {
+            *slot = match c.shape {
+                Shape::Plane { point, normal } => GpuCollider {
+                    point: point.as_vec3().extend(0.0).into(),
+                    normal: normal.as_vec3().extend(0.0).into(),
+                    ..GpuCollider::default()
+                },
+                Shape::Sphere { centre, radius } => GpuCollider {
+                    point: centre.as_vec3().extend(radius as f32).into(),
+                    kind: [1, 0, 0, 0],
+                    ..GpuCollider::default()
+                },
+            };
+            match c.response {
+                ContactResponse::Projection {
+                    restitution,
+                    friction,
+                } => slot.coefficients = [restitution as f32, friction as f32, 0.0, 0.0],
+                ContactResponse::Penalty {
+                    stiffness,
+                    damping,
+                    friction,
+                } => {
+                    slot.coefficients = [stiffness as f32, damping as f32, friction as f32, 0.0];
+                    slot.kind[1] = 1;
+                }
+            }
+        }
+        let (row, _) = grid(n as u32);
+        let params = Params {
+            count: n as u32,
+            colliders: world.colliders.len().min(MAX_COLLIDERS) as u32,
+            row,
+            pad: 0,
+            gravity: gravity.extend(drag as f32).into(),
+            h: h as f32,
+            max_distance_squared: narrow(world.settings.max_distance.powi(2)),
+            max_speed_squared: narrow(world.settings.max_speed.powi(2)),
+            pad2: 0.0,
+            collider,
+        };
+        Layout {
+            position,
+            velocity,
+            first,
+            links,
+            params,
+        }
+    }
+}
