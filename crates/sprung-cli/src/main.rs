@@ -15,6 +15,7 @@ static ALLOCATOR: bench::memory::Counting = bench::memory::Counting;
 mod demos;
 mod interrupt;
 mod intersections;
+mod on_gpu;
 mod outputs;
 mod plot;
 mod render;
@@ -30,7 +31,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use sprung::IntegratorKind;
 use sprung_io::export::OutputFormat;
-use sprung_io::Override;
+use sprung_io::{Device, Override};
 
 /// A mass-spring-damper simulator of elastic materials.
 #[derive(Debug, Parser)]
@@ -145,6 +146,10 @@ pub struct RunOptions {
     /// written are the same bytes as a run that never stopped.
     #[arg(long, value_name = "FILE")]
     resume: Option<PathBuf>,
+    /// Where the steps run: cpu (the engine) or gpu (the GPU step, for the
+    /// scenes it can run: docs/gpu.md), instead of the scene's `device`.
+    #[arg(long)]
+    device: Option<Device>,
 }
 
 fn main() -> ExitCode {

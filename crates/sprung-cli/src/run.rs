@@ -8,11 +8,14 @@ use std::time::Duration;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
 use sprung::error::{Readable, Seconds};
 use sprung::integrate::Preconditioner;
+use sprung::integrate::StepReport;
 use sprung::{IntegratorKind, StepError, World};
+use sprung_gpu::GpuError;
 use sprung_io::{Scene, SceneError};
 
 use crate::checkpoint;
 use crate::interrupt::{self, Signal};
+use crate::on_gpu;
 use crate::outputs::Outputs;
 use crate::scene_file::{SceneCopy, SceneInput};
 use crate::RunOptions;
@@ -147,6 +150,9 @@ pub fn run_scene(
         .world
         .contact_pairs_now(scene.dt)
         .map_err(|e| CliError::Input(e.to_string()))?;
+    // Refused here, before anything is written, where the GPU step lacks
+    // what the scene asks.
+    let mut gpu = on_gpu::start(&scene, options)?;
     if resumed.is_none() {
         let at_start = crate::check::start_warnings(&scene.world);
         for warning in scene.warnings.iter().chain(&at_start) {
@@ -185,19 +191,42 @@ pub fn run_scene(
     let first_step = scene.world.steps() + 1;
     // The preconditioner implicit Euler's last solve took.
     let mut chosen = None;
-    for step in first_step..=steps {
+    let mut next = first_step;
+    while next <= steps {
         if let Some(signal) = interrupt::received() {
             progress.abandon();
             let rows = outputs.rows();
             let place = outputs.finish(&scene.world, rows, options.save_state.is_some())?;
             let message = format!(
                 "stopped after step {} (t = {} s): {place}",
-                step - 1,
+                next - 1,
                 Seconds(scene.world.time()),
             );
             return Err(CliError::Interrupted(signal, message));
         }
-        let report = match scene.world.step(scene.dt) {
+        // One step on the CPU; on the GPU, the steps up to the next row.
+        let step = match &gpu {
+            Some(_) => on_gpu::stretch_end(next, steps, every),
+            None => next,
+        };
+        next = step + 1;
+        let stepped = match &mut gpu {
+            Some(gpu) => {
+                gpu.step(step - scene.world.steps());
+                match gpu.read_into(&mut scene.world) {
+                    Ok(()) => Ok(StepReport::default()),
+                    Err(GpuError::Step(error)) => Err(error),
+                    Err(other) => {
+                        progress.abandon();
+                        let place = outputs.finish(&scene.world, 0, false)?;
+                        let error = on_gpu::failed(&other);
+                        return Err(CliError::Input(format!("{error} (kept: {place})")));
+                    }
+                }
+            }
+            None => scene.world.step(scene.dt),
+        };
+        let report = match stepped {
             Ok(report) => report,
             Err(error) => {
                 progress.abandon();
@@ -240,7 +269,7 @@ pub fn run_scene(
         if options.checkpoint_every.is_some_and(|k| step % k == 0) && step != steps {
             outputs.checkpoint(&scene.world)?;
         }
-        if step % 256 == 0 {
+        if step % 256 == 0 || gpu.is_some() {
             progress.set_position(step);
         }
     }

@@ -58,11 +58,21 @@ struct Link {
 // position, start velocity, velocity sum and acceleration sum; Verlet's
 // previous position in the first.
 @group(0) @binding(6) var<storage, read_write> scratch: array<vec4<f32>>;
-// [0]: steps taken; [1]: the first step whose state blew up (1-based), or
-// 0xffffffff.
+// [0]: steps taken; [1]: the first step whose state blew up (counted from
+// 1), or 0xffffffff.
 @group(0) @binding(7) var<storage, read_write> status: array<atomic<u32>>;
 
+// Whether a step that blew up has ended (then the state stays as it left
+// it, for the engine's guard to read; the step itself runs to its end).
+fn stopped() -> bool {
+    return atomicLoad(&status[1]) <= atomicLoad(&status[0]);
+}
+
+// The invocation's particle, or `params.count` (none) once stopped.
 fn particle(id: vec3<u32>) -> u32 {
+    if stopped() {
+        return params.count;
+    }
     return id.x + id.y * params.row * 64u;
 }
 
@@ -307,8 +317,11 @@ fn rk4_end(@builtin(global_invocation_id) id: vec3<u32>) {
     v[i] = vec4<f32>(u, v[i].w);
 }
 
-// The step's count, after its last kernel.
+// The step's count, after its last kernel (the step that blew up is
+// counted, none after it).
 @compute @workgroup_size(1)
 fn tick() {
-    atomicAdd(&status[0], 1u);
+    if !stopped() {
+        atomicAdd(&status[0], 1u);
+    }
 }

@@ -52,6 +52,8 @@ pub struct GpuWorld {
     first: bool,
     /// Steps run since the last [`GpuWorld::read_into`].
     pending: u64,
+    /// Steps read back so far.
+    read: u64,
     /// The world's step count when it was put on the GPU.
     start_step: u64,
     /// The world's stable time step then (s), for a blow-up's message.
@@ -262,6 +264,7 @@ impl GpuWorld {
             pipelines,
             first: true,
             pending: 0,
+            read: 0,
             start_step: world.steps(),
             stable_dt: world.stable_time_step(),
             gpu,
@@ -343,9 +346,12 @@ impl GpuWorld {
 
     /// Wait for the steps run so far, then write the positions and
     /// velocities into `world` (the one this was made from, f32 widened to
-    /// f64) and advance its clock by them ([`World::took_steps`]). If the
-    /// state blew up on the way, the world keeps the state it had and the
-    /// error names the first step that blew up.
+    /// f64) and advance its clock by them ([`World::took_steps`]). If a
+    /// step blew up, the GPU stopped at its end: the world gets that state
+    /// and its clock stops there, and the engine's guard says which
+    /// particle and why ([`GpuError::Step`] holding
+    /// [`StepError::BlowUp`](sprung::StepError::BlowUp)), as a step on
+    /// the CPU would. Nothing more can be stepped then.
     pub fn read_into(&mut self, world: &mut World) -> Result<(), GpuError> {
         if let Some(failure) = self.gpu.failure() {
             return Err(GpuError::Device(failure));
@@ -373,18 +379,12 @@ impl GpuWorld {
             .recv()
             .map_err(|e| GpuError::Device(e.to_string()))?
             .map_err(|e| GpuError::Device(e.to_string()))?;
-        let result = {
-            let data = slice
-                .get_mapped_range()
-                .map_err(|e| GpuError::Device(e.to_string()))?;
-            let floats: &[[f32; 4]] = bytemuck::cast_slice(&data[..32 * n as usize]);
-            let status: &[u32] = bytemuck::cast_slice(&data[32 * n as usize..]);
-            if status[1] != u32::MAX {
-                Err(GpuError::BlowUp {
-                    step: self.start_step + u64::from(status[1]),
-                    stable_dt: self.stable_dt,
-                })
-            } else {
+        let read = slice
+            .get_mapped_range()
+            .map_err(|e| GpuError::Device(e.to_string()))
+            .map(|data| {
+                let floats: &[[f32; 4]] = bytemuck::cast_slice(&data[..32 * n as usize]);
+                let status: &[u32] = bytemuck::cast_slice(&data[32 * n as usize..]);
                 let widen = |p: &[f32; 4]| Vec3::new(p[0].into(), p[1].into(), p[2].into());
                 let (position, velocity) = floats.split_at(self.count);
                 for (to, from) in world.particles.position.iter_mut().zip(position) {
@@ -393,13 +393,23 @@ impl GpuWorld {
                 for (to, from) in world.particles.velocity.iter_mut().zip(velocity) {
                     *to = widen(from);
                 }
-                Ok(())
-            }
-        };
+                (status[0], status[1])
+            });
         b.readback.unmap();
-        result?;
-        let steps = std::mem::take(&mut self.pending);
+        let (taken, blew_up) = read?;
+        // Steps taken since the last read: all those run, or up to the
+        // one that blew up.
+        let steps = u64::from(taken) - self.read;
+        self.read = u64::from(taken);
+        self.pending = 0;
         world.took_steps(self.dt, steps)?;
+        if blew_up != u32::MAX {
+            // Past a limit in f32, within it in f64.
+            return Err(GpuError::BlowUp {
+                step: self.start_step + u64::from(blew_up),
+                stable_dt: self.stable_dt,
+            });
+        }
         Ok(())
     }
 }

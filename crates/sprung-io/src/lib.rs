@@ -17,7 +17,8 @@ pub mod state;
 
 pub use scene::{
     apply_overrides, load_scene, load_scene_overridden, parse_scene, parse_scene_overridden,
-    parse_scene_with, Disk, FileSource, Override, OverrideError, Scene, SceneCamera, SceneError,
+    parse_scene_with, Device, Disk, FileSource, Override, OverrideError, Scene, SceneCamera,
+    SceneError,
 };
 /// The TOML crate whose values [`Override`] holds and [`scene::overridden_table`]
 /// returns.

@@ -31,6 +31,7 @@ pub use overrides::{
     apply_overrides, load_scene_overridden, overridden_table, parse_scene_overridden, scene_toml,
     Override, OverrideError,
 };
+pub use sim::Device;
 
 use std::path::{Path, PathBuf};
 
@@ -60,6 +61,8 @@ pub struct Scene {
     pub world: World,
     /// Time step (s).
     pub dt: Real,
+    /// Where the steps run (`device` in `[sim]`).
+    pub device: Device,
     /// Number of steps to run.
     pub steps: u64,
     /// Record every K steps, if the scene says.
@@ -244,6 +247,7 @@ pub fn parse_scene_with(
     };
     let sim = file.sim.get_ref();
     let (integrator, dt, steps) = timing(sim).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
+    let device = sim::device(sim).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
     let mut world = World::new(integrator);
     apply_settings(&mut world, sim).map_err(|(key, m)| at(sim_span.clone(), key, m))?;
     world.settings.solver =
@@ -397,6 +401,7 @@ pub fn parse_scene_with(
         camera,
         world,
         dt,
+        device,
         steps,
         every: sim.every,
         path: path.to_path_buf(),

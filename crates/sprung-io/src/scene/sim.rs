@@ -8,6 +8,55 @@ use sprung::{IntegratorKind, Real, Substeps, World};
 use super::tables::{SimTable, SubstepsValue};
 use super::{body, positive, vector, KeyError, DEFAULT_DURATION, MAX_STEPS};
 
+/// Where a scene's steps run (`device` in `[sim]`, `--device`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Device {
+    /// The engine, on the processor's threads.
+    #[default]
+    Cpu,
+    /// The GPU step (`sprung-gpu`), for the scenes it has what they ask
+    /// for (docs/gpu.md).
+    Gpu,
+}
+
+impl Device {
+    /// Its name in scenes and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Device::Cpu => "cpu",
+            Device::Gpu => "gpu",
+        }
+    }
+}
+
+impl std::str::FromStr for Device {
+    type Err = String;
+
+    fn from_str(name: &str) -> Result<Self, Self::Err> {
+        match name {
+            "cpu" => Ok(Device::Cpu),
+            "gpu" => Ok(Device::Gpu),
+            _ => Err(format!(
+                "unknown device \"{name}\" (expected \"cpu\" or \"gpu\")"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Device {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// `device` in `[sim]`: the CPU unless it names the GPU.
+pub(super) fn device(sim: &SimTable) -> Result<Device, KeyError> {
+    match &sim.device {
+        None => Ok(Device::Cpu),
+        Some(name) => name.parse().map_err(|m| ("device", m)),
+    }
+}
+
 /// The latest time a run may reach (s): the same bound as its energies'
 /// ([`sprung::error::ENERGY_LIMIT`]).
 const TIME_LIMIT: Real = sprung::error::ENERGY_LIMIT;

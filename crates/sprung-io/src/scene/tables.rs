@@ -145,6 +145,9 @@ pub(crate) struct SimTable {
     /// Integrator name.
     #[serde(default)]
     pub integrator: Option<String>,
+    /// Where the steps run: "cpu" or "gpu".
+    #[serde(default)]
+    pub device: Option<String>,
     /// Gravity (m/s²).
     #[serde(default)]
     pub gravity: Option<Vec<f64>>,
