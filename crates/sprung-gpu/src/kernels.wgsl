@@ -35,13 +35,18 @@ struct Params {
     collider: array<Collider, 64>,
 }
 
-// One spring as its end `particle` sees it: the other end, the rest
-// length (m), stiffness (N/m) and damping (N·s/m).
+// One spring as one of its ends sees it: the other end, and the spring.
 struct Link {
     other: u32,
+    spring: u32,
+}
+
+// A spring's rest length (m), stiffness (N/m) and damping (N·s/m).
+struct Spring {
     rest: f32,
     stiffness: f32,
     damping: f32,
+    pad: f32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -54,6 +59,7 @@ struct Link {
 // Particle i's springs are links[first[i]..first[i + 1]].
 @group(0) @binding(4) var<storage, read> first: array<u32>;
 @group(0) @binding(5) var<storage, read> links: array<Link>;
+@group(0) @binding(8) var<storage, read> springs: array<Spring>;
 // The integrators' own state, four blocks of `count`: RK4's start
 // position, start velocity, velocity sum and acceleration sum; Verlet's
 // previous position in the first.
@@ -130,12 +136,13 @@ fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
     var force = v[i].w * params.gravity.xyz;
     for (var e = first[i]; e < first[i + 1u]; e++) {
         let link = links[e];
+        let spring = springs[link.spring];
         let d = xi - x[link.other].xyz;
         let length = length(d);
         if length > 0.0 {
             let t = d / length;
-            let s = link.stiffness * (length - link.rest)
-                + link.damping * dot(vi - v[link.other].xyz, t);
+            let s = spring.stiffness * (length - spring.rest)
+                + spring.damping * dot(vi - v[link.other].xyz, t);
             force -= s * t;
         }
     }

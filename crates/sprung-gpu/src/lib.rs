@@ -31,7 +31,7 @@ mod step;
 pub mod support;
 
 pub use device::{adapter_summary, Gpu};
-pub use layout::{grid, GpuCollider, Layout, Link, Params};
+pub use layout::{grid, GpuCollider, Layout, Link, Params, Spring};
 pub use step::GpuWorld;
 
 /// What can go wrong on the GPU path.

@@ -155,6 +155,12 @@ impl GpuWorld {
             bytemuck::cast_slice(&nonempty(layout.links)),
             limit,
         )?;
+        let springs = storage(
+            &gpu,
+            "springs",
+            bytemuck::cast_slice(&nonempty(layout.springs)),
+            limit,
+        )?;
         let scratch = storage(
             &gpu,
             "scratch",
@@ -193,6 +199,7 @@ impl GpuWorld {
             entry(5, read),
             entry(6, read_write),
             entry(7, read_write),
+            entry(8, read),
         ];
         let device = &gpu.device;
         let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -200,7 +207,7 @@ impl GpuWorld {
             entries: &entries,
         });
         let buffers = [
-            &uniform, &position, &velocity, &force, &first, &links, &scratch, &status,
+            &uniform, &position, &velocity, &force, &first, &links, &scratch, &status, &springs,
         ];
         let bound: Vec<wgpu::BindGroupEntry> = buffers
             .iter()
@@ -342,6 +349,19 @@ impl GpuWorld {
         }
         pass.set_pipeline(&p.tick);
         pass.dispatch_workgroups(1, 1, 1);
+    }
+
+    /// Wait until the steps run so far are done, reading nothing back (a
+    /// bench's clock).
+    pub fn wait(&self) -> Result<(), GpuError> {
+        self.gpu
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        match self.gpu.failure() {
+            Some(failure) => Err(GpuError::Device(failure)),
+            None => Ok(()),
+        }
     }
 
     /// Wait for the steps run so far, then write the positions and

@@ -14,6 +14,7 @@ mod cases;
 mod contacts;
 mod demos;
 mod goals;
+mod gpu;
 pub mod memory;
 mod reference;
 mod stiff_cloth;
@@ -25,6 +26,7 @@ use std::time::Instant;
 
 use sprung::{parallel, IntegratorKind, Real, Stage};
 use sprung_io::export::AtomicFile;
+use sprung_io::Device;
 
 use crate::run::CliError;
 use cases::{Case, Group};
@@ -65,8 +67,9 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 0.5, value_parser = least_seconds)]
     seconds: f64,
     /// Sizes of the cloths timed under symplectic Euler (particles along a
-    /// side); the largest is also timed under RK4.
-    #[arg(long, value_delimiter = ',', default_values_t = [64, 128, 256, 512], value_parser = cloth_side)]
+    /// side); the largest is also timed under RK4 [default: 64,128,256,512;
+    /// 256,512,1024 with --device gpu].
+    #[arg(long, value_delimiter = ',', value_parser = cloth_side)]
     sizes: Vec<usize>,
     /// Only these groups of cases.
     #[arg(long, value_delimiter = ',', value_enum)]
@@ -88,6 +91,11 @@ pub struct BenchArgs {
     /// again, or the figure the issue recorded) and the goal's target.
     #[arg(long, conflicts_with = "demos")]
     goals: bool,
+    /// Where the cloths are stepped: cpu (the table above) or gpu (the
+    /// GPU step against the engine on every thread: --sizes, default 256,
+    /// 512 and 1024, and the largest under RK4 too).
+    #[arg(long, default_value = "cpu", conflicts_with_all = ["demos", "goals", "compare", "only"])]
+    device: Device,
     /// Small cases and short timings: checks that the bench runs, measures
     /// nothing.
     #[arg(long)]
@@ -200,10 +208,18 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     if args.goals {
         return goals::run(&one_pool, &all_pool, args.quick, args.csv.as_deref());
     }
-    let sizes = if args.quick {
-        vec![8, 16]
-    } else {
-        args.sizes.clone()
+    if args.device == Device::Gpu {
+        let (sizes, least) = match (args.quick, args.sizes.is_empty()) {
+            (true, _) => (vec![8, 16], 0.0),
+            (false, false) => (args.sizes.clone(), seconds),
+            (false, true) => (vec![256, 512, 1024], seconds),
+        };
+        return gpu::run(&all_pool, &sizes, least, args.csv.as_deref());
+    }
+    let sizes = match (args.quick, args.sizes.is_empty()) {
+        (true, _) => vec![8, 16],
+        (false, true) => vec![64, 128, 256, 512],
+        (false, false) => args.sizes.clone(),
     };
     let size = if args.quick { 8 } else { args.size };
     let mut rows = Vec::new();
