@@ -43,7 +43,10 @@ impl Gpu {
         let info = adapter.get_info();
         let available = adapter.limits();
         let limits = wgpu::Limits {
-            max_storage_buffers_per_shader_stage: 8,
+            // The kernels bind 12.
+            max_storage_buffers_per_shader_stage: available
+                .max_storage_buffers_per_shader_stage
+                .min(16),
             max_storage_buffer_binding_size: available.max_storage_buffer_binding_size,
             max_buffer_size: available.max_buffer_size,
             max_compute_workgroups_per_dimension: available.max_compute_workgroups_per_dimension,

@@ -21,8 +21,15 @@ struct Params {
     // Particles, colliders.
     count: u32,
     colliders: u32,
-    // Rows of the dispatch grid (x) that make up one row of `count`.
+    // Workgroups along x of the particles' dispatch grid.
     row: u32,
+    // Workgroups along x of the gas elements' grid.
+    gas_row: u32,
+    // Gas elements (padded), gas bodies, and the partial volumes (the
+    // pressures follow them in `gas_sums`).
+    elements: u32,
+    gas_bodies: u32,
+    parts: u32,
     pad: u32,
     // Gravity's acceleration (m/s², xyz) and the air drag's coefficient
     // (N·s/m, w).
@@ -33,6 +40,16 @@ struct Params {
     max_speed_squared: f32,
     pad2: f32,
     collider: array<Collider, 64>,
+    // Per gas body, its first partial volume and how many (x, y), and the
+    // next body's (z, w).
+    gas: array<vec4<u32>, 30>,
+}
+
+// What changes from one force evaluation to the next: the time (s, x) and
+// each gas body's nRT (J), four to a vector.
+struct Stage {
+    time: vec4<f32>,
+    nrt: array<vec4<f32>, 15>,
 }
 
 // One spring as one of its ends sees it: the other end, and the spring.
@@ -64,6 +81,15 @@ struct Spring {
 // position, start velocity, velocity sum and acceleration sum; Verlet's
 // previous position in the first.
 @group(0) @binding(6) var<storage, read_write> scratch: array<vec4<f32>>;
+// Per gas element: its particles (a segment's third is 0xffffffff) and
+// its gas body.
+@group(0) @binding(9) var<storage, read> elements: array<vec4<u32>>;
+// Particle i's elements are element_links[element_first[i]..element_first[i + 1]].
+@group(0) @binding(10) var<storage, read> element_first: array<u32>;
+@group(0) @binding(11) var<storage, read> element_links: array<u32>;
+// The partial volumes (m³, or m² in 2D), then each gas body's pressure.
+@group(0) @binding(12) var<storage, read_write> gas_sums: array<f32>;
+@group(1) @binding(0) var<uniform> stage: Stage;
 // [0]: steps taken; [1]: the first step whose state blew up (counted from
 // 1), or 0xffffffff.
 @group(0) @binding(7) var<storage, read_write> status: array<atomic<u32>>;
@@ -146,9 +172,99 @@ fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
             force -= s * t;
         }
     }
+    for (var e = element_first[i]; e < element_first[i + 1u]; e++) {
+        force += gas_push(elements[element_links[e]]);
+    }
     force += penalty(xi, vi);
     force -= params.gravity.w * vi;
     f[i] = vec4<f32>(force, 0.0);
+}
+
+const SEGMENT: u32 = 0xffffffffu;
+
+// An element's share of its body's enclosed volume (surface::enclosed_volume,
+// surface::enclosed_area): the divergence theorem over it.
+fn volume_of(element: vec4<u32>) -> f32 {
+    let a = x[element.x].xyz;
+    let b = x[element.y].xyz;
+    if element.z == SEGMENT {
+        return 0.5 * (a.x + b.x) * (b.y - a.y);
+    }
+    let c = x[element.z].xyz;
+    let area_normal = 0.5 * cross(b - a, c - a);
+    return (a.x + b.x + c.x) / 3.0 * area_normal.x;
+}
+
+// The push of its body's gas on one corner of an element (GasPressure):
+// the pressure times a third of the face's area normal, or half the
+// segment's normal in 2D.
+fn gas_push(element: vec4<u32>) -> vec3<f32> {
+    let pressure = gas_sums[params.parts + element.w];
+    if pressure == 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let a = x[element.x].xyz;
+    let d = x[element.y].xyz - a;
+    if element.z == SEGMENT {
+        return 0.5 * pressure * vec3<f32>(d.y, -d.x, 0.0);
+    }
+    return pressure / 3.0 * 0.5 * cross(d, x[element.z].xyz - a);
+}
+
+var<workgroup> part: array<f32, 64>;
+
+// The elements' volumes summed 64 at a time, in a fixed order (a tree in
+// the workgroup): one partial volume a workgroup, each of one body.
+@compute @workgroup_size(64)
+fn volume_parts(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+    @builtin(workgroup_id) group: vec3<u32>,
+) {
+    let e = id.x + id.y * params.gas_row * 64u;
+    var share = 0.0;
+    if e < params.elements && !stopped() {
+        share = volume_of(elements[e]);
+    }
+    part[lane] = share;
+    workgroupBarrier();
+    for (var half = 32u; half > 0u; half >>= 1u) {
+        if lane < half {
+            part[lane] += part[lane + half];
+        }
+        workgroupBarrier();
+    }
+    let index = group.x + group.y * params.gas_row;
+    if lane == 0u && index < params.parts {
+        gas_sums[index] = part[0];
+    }
+}
+
+// Each gas body's volume (its partial volumes summed in order) and
+// pressure nRT / V (forces::pressure; none where the volume is not
+// positive).
+@compute @workgroup_size(64)
+fn pressures(@builtin(global_invocation_id) id: vec3<u32>) {
+    let g = id.x;
+    if g >= params.gas_bodies || stopped() {
+        return;
+    }
+    let span = params.gas[g / 2u];
+    var first = span.x;
+    var parts = span.y;
+    if g % 2u == 1u {
+        first = span.z;
+        parts = span.w;
+    }
+    var volume = 0.0;
+    for (var k = 0u; k < parts; k++) {
+        volume += gas_sums[first + k];
+    }
+    var pressure = 0.0;
+    if volume > 0.0 {
+        pressure = stage.nrt[g / 4u][g % 4u] / volume;
+    }
+    gas_sums[params.parts + g] = pressure;
 }
 
 // Coulomb friction over one impulse (colliders::constraint::coulomb).

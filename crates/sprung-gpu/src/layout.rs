@@ -6,6 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use sprung::forces::{AirDrag, Gravity};
 use sprung::{ContactResponse, Shape, World};
 
+use crate::gas::{GasLayout, MAX_GAS_BODIES, PART};
 use crate::support::MAX_COLLIDERS;
 
 /// One spring as one of its ends sees it (`Link` in the kernels): 8
@@ -57,8 +58,16 @@ pub struct Params {
     pub count: u32,
     /// Colliders in use of [`Params::collider`].
     pub colliders: u32,
-    /// Workgroups along x of the dispatch grid (each of 64 particles).
+    /// Workgroups along x of the particles' dispatch grid (each of 64).
     pub row: u32,
+    /// Workgroups along x of the gas elements' dispatch grid.
+    pub gas_row: u32,
+    /// Gas elements, padded ([`GasLayout::elements`]).
+    pub elements: u32,
+    /// Gas bodies.
+    pub gas_bodies: u32,
+    /// Partial volumes (the pressures follow them).
+    pub parts: u32,
     /// Padding.
     pub pad: u32,
     /// Gravity's acceleration (m/s², xyz) and the air drag coefficient
@@ -74,6 +83,9 @@ pub struct Params {
     pub pad2: f32,
     /// The colliders, in the world's order.
     pub collider: [GpuCollider; MAX_COLLIDERS],
+    /// Per gas body, its first partial volume and how many; two bodies a
+    /// vector.
+    pub gas: [[u32; 4]; MAX_GAS_BODIES / 2],
 }
 
 /// A world as the kernels read it.
@@ -90,6 +102,8 @@ pub struct Layout {
     pub links: Vec<Link>,
     /// Every spring's constants, in the world's order.
     pub springs: Vec<Spring>,
+    /// The gas bodies.
+    pub gas: GasLayout,
     /// The uniform block, for a (sub)step of `h`.
     pub params: Params,
 }
@@ -194,10 +208,21 @@ impl Layout {
             }
         }
         let (row, _) = grid(n as u32);
+        let gas = GasLayout::of(world);
+        let elements = gas.elements.len() as u32;
+        let mut spans = [[0u32; 4]; MAX_GAS_BODIES / 2];
+        for (k, body) in gas.bodies.iter().enumerate().take(MAX_GAS_BODIES) {
+            spans[k / 2][2 * (k % 2)] = body.first;
+            spans[k / 2][2 * (k % 2) + 1] = body.parts;
+        }
         let params = Params {
             count: n as u32,
             colliders: world.colliders.len().min(MAX_COLLIDERS) as u32,
             row,
+            gas_row: grid(elements).0,
+            elements,
+            gas_bodies: gas.bodies.len() as u32,
+            parts: elements / PART as u32,
             pad: 0,
             gravity: gravity.extend(drag as f32).into(),
             h: h as f32,
@@ -205,6 +230,7 @@ impl Layout {
             max_speed_squared: narrow(world.settings.max_speed.powi(2)),
             pad2: 0.0,
             collider,
+            gas: spans,
         };
         Layout {
             position,
@@ -212,6 +238,7 @@ impl Layout {
             first,
             links,
             springs: constants.collect(),
+            gas,
             params,
         }
     }

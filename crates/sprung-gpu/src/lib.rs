@@ -26,6 +26,8 @@
 //! ```
 
 mod device;
+pub mod gas;
+mod kernels;
 mod layout;
 mod step;
 pub mod support;

@@ -2,37 +2,19 @@
 //! between steps.
 
 use sprung::{IntegratorKind, Real, Substeps, Vec3, World};
-use wgpu::util::DeviceExt;
 
-use crate::layout::{grid, Layout, Params};
+use crate::gas::GasLayout;
+use crate::kernels::{Kernels, STAGE_BYTES};
+use crate::layout::{grid, Layout};
 use crate::{support, Gpu, GpuError};
 
 /// Steps encoded into one submission (a long run is cut so that no
 /// command buffer grows without bound).
 const STEPS_PER_SUBMIT: u64 = 64;
 
-/// The kernels of `kernels.wgsl`, each a pipeline.
-#[derive(Debug)]
-struct Pipelines {
-    forces: wgpu::ComputePipeline,
-    symplectic: wgpu::ComputePipeline,
-    verlet_start: wgpu::ComputePipeline,
-    verlet: wgpu::ComputePipeline,
-    rk4_begin: wgpu::ComputePipeline,
-    rk4_stages: [wgpu::ComputePipeline; 3],
-    rk4_end: wgpu::ComputePipeline,
-    tick: wgpu::ComputePipeline,
-}
-
-/// The GPU's buffers of a world.
-#[derive(Debug)]
-struct Buffers {
-    position: wgpu::Buffer,
-    velocity: wgpu::Buffer,
-    status: wgpu::Buffer,
-    /// Positions, velocities and status copied here to be read.
-    readback: wgpu::Buffer,
-}
+/// Stage slots (force evaluations) the stage buffer holds: a submission
+/// takes as many steps as fit.
+const SLOTS: u64 = 1024;
 
 /// A world whose explicit step runs on the GPU ([`support::check`] says
 /// which worlds), in f32, its state held there between steps.
@@ -40,14 +22,21 @@ struct Buffers {
 pub struct GpuWorld {
     gpu: Gpu,
     kind: IntegratorKind,
-    /// The step (s) and the substeps of each.
+    /// The step (s), the substeps of each and the substep (s).
     dt: Real,
     substeps: u32,
+    h: Real,
+    /// The time of the next substep's start (s).
+    time: Real,
     count: usize,
+    /// Workgroups over the particles, and over the gas elements.
     groups: (u32, u32),
-    buffers: Buffers,
-    bind_group: wgpu::BindGroup,
-    pipelines: Pipelines,
+    gas_groups: (u32, u32),
+    /// The gas bodies' schedules, and how many.
+    gas: GasLayout,
+    kernels: Kernels,
+    /// The stage slots of the submission being encoded.
+    stages: Vec<u8>,
     /// Verlet's first step (its bootstrap) is still to come.
     first: bool,
     /// Steps run since the last [`GpuWorld::read_into`].
@@ -60,40 +49,11 @@ pub struct GpuWorld {
     stable_dt: Real,
 }
 
-fn storage(gpu: &Gpu, label: &str, contents: &[u8], limit: u64) -> Result<wgpu::Buffer, GpuError> {
-    let bytes = contents.len() as u64;
-    if bytes > limit {
-        return Err(GpuError::TooLarge { bytes, limit });
-    }
-    Ok(gpu
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents,
-            usage: wgpu::BufferUsages::STORAGE
-                | wgpu::BufferUsages::COPY_SRC
-                | wgpu::BufferUsages::COPY_DST,
-        }))
-}
-
-/// At least one element: a binding may not be empty.
-fn nonempty<T: Copy + bytemuck::Zeroable>(mut items: Vec<T>) -> Vec<T> {
-    if items.is_empty() {
-        items.push(T::zeroed());
-    }
-    items
-}
-
-fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
+/// The times of one substep's force evaluations, as fractions of it.
+fn evaluations(kind: IntegratorKind) -> &'static [Real] {
+    match kind {
+        IntegratorKind::Rk4 => &[0.0, 0.5, 0.5, 1.0],
+        _ => &[0.0],
     }
 }
 
@@ -111,164 +71,33 @@ impl GpuWorld {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(sprung::StepError::InvalidTimeStep { dt }.into());
         }
-        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let made = GpuWorld::make(gpu.clone(), world, dt);
-        let errors = [memory.pop(), scope.pop()].map(pollster::block_on);
-        if let Some(error) = errors.into_iter().flatten().next() {
-            return Err(GpuError::Device(error.to_string()));
-        }
-        made
-    }
-
-    /// [`GpuWorld::on`] for a world it has checked.
-    fn make(gpu: Gpu, world: &World, dt: Real) -> Result<GpuWorld, GpuError> {
         let substeps = match world.settings.substeps {
             Substeps::Fixed(n) => n.max(1),
             Substeps::Auto => 1,
         };
-        let layout = Layout::of(world, dt / Real::from(substeps));
+        let h = dt / Real::from(substeps);
+        let layout = Layout::of(world, h);
+        let per_step = evaluations(world.integrator()).len() as u64 * u64::from(substeps);
+        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let made = Kernels::new(&gpu, &layout, SLOTS.max(per_step));
+        let errors = [memory.pop(), scope.pop()].map(pollster::block_on);
+        if let Some(error) = errors.into_iter().flatten().next() {
+            return Err(GpuError::Device(error.to_string()));
+        }
         let count = world.particles.len();
-        let limit = gpu.max_binding();
-        let position = storage(
-            &gpu,
-            "position",
-            bytemuck::cast_slice(&nonempty(layout.position)),
-            limit,
-        )?;
-        let velocity = storage(
-            &gpu,
-            "velocity",
-            bytemuck::cast_slice(&nonempty(layout.velocity)),
-            limit,
-        )?;
-        let force = storage(
-            &gpu,
-            "force",
-            bytemuck::cast_slice(&vec![[0f32; 4]; count.max(1)]),
-            limit,
-        )?;
-        let first = storage(&gpu, "first", bytemuck::cast_slice(&layout.first), limit)?;
-        let links = storage(
-            &gpu,
-            "links",
-            bytemuck::cast_slice(&nonempty(layout.links)),
-            limit,
-        )?;
-        let springs = storage(
-            &gpu,
-            "springs",
-            bytemuck::cast_slice(&nonempty(layout.springs)),
-            limit,
-        )?;
-        let scratch = storage(
-            &gpu,
-            "scratch",
-            bytemuck::cast_slice(&vec![[0f32; 4]; 4 * count.max(1)]),
-            limit,
-        )?;
-        let status = storage(
-            &gpu,
-            "status",
-            bytemuck::cast_slice(&[0u32, u32::MAX]),
-            limit,
-        )?;
-        let params: [Params; 1] = [layout.params];
-        let uniform = gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("params"),
-                contents: bytemuck::cast_slice(&params),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-        let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: 32 * count.max(1) as u64 + 8,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        use wgpu::BufferBindingType::{Storage, Uniform};
-        let read_write = Storage { read_only: false };
-        let read = Storage { read_only: true };
-        let entries = [
-            entry(0, Uniform),
-            entry(1, read_write),
-            entry(2, read_write),
-            entry(3, read_write),
-            entry(4, read),
-            entry(5, read),
-            entry(6, read_write),
-            entry(7, read_write),
-            entry(8, read),
-        ];
-        let device = &gpu.device;
-        let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("sprung step"),
-            entries: &entries,
-        });
-        let buffers = [
-            &uniform, &position, &velocity, &force, &first, &links, &scratch, &status, &springs,
-        ];
-        let bound: Vec<wgpu::BindGroupEntry> = buffers
-            .iter()
-            .enumerate()
-            .map(|(binding, buffer)| wgpu::BindGroupEntry {
-                binding: binding as u32,
-                resource: buffer.as_entire_binding(),
-            })
-            .collect();
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("sprung step"),
-            layout: &bind_layout,
-            entries: &bound,
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("sprung step"),
-            bind_group_layouts: &[Some(&bind_layout)],
-            immediate_size: 0,
-        });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("kernels.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("kernels.wgsl").into()),
-        });
-        let kernel = |name: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(name),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(name),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let pipelines = Pipelines {
-            forces: kernel("forces"),
-            symplectic: kernel("symplectic"),
-            verlet_start: kernel("verlet_start"),
-            verlet: kernel("verlet"),
-            rk4_begin: kernel("rk4_begin"),
-            rk4_stages: [
-                kernel("rk4_stage1"),
-                kernel("rk4_stage2"),
-                kernel("rk4_stage3"),
-            ],
-            rk4_end: kernel("rk4_end"),
-            tick: kernel("tick"),
-        };
         Ok(GpuWorld {
             kind: world.integrator(),
             dt,
             substeps,
+            h,
+            time: world.time(),
             count,
             groups: grid(count as u32),
-            buffers: Buffers {
-                position,
-                velocity,
-                status,
-                readback,
-            },
-            bind_group,
-            pipelines,
+            gas_groups: grid(layout.params.elements),
+            gas: layout.gas,
+            kernels: made?,
+            stages: Vec::new(),
             first: true,
             pending: 0,
             read: 0,
@@ -289,11 +118,17 @@ impl GpuWorld {
     }
 
     /// Run `steps` steps of the world's `dt` on the GPU (queued: they are
-    /// done by the time [`GpuWorld::read_into`] returns).
+    /// done by the time [`GpuWorld::read_into`] or [`GpuWorld::wait`]
+    /// returns).
     pub fn step(&mut self, steps: u64) {
+        let per_step = evaluations(self.kind).len() as u64 * u64::from(self.substeps);
+        let most = (self.kernels.slots / per_step).clamp(1, STEPS_PER_SUBMIT);
         let mut left = steps;
         while left > 0 {
-            let batch = left.min(STEPS_PER_SUBMIT);
+            let batch = left.min(most);
+            self.fill_stages(batch);
+            let queue = &self.gpu.queue;
+            queue.write_buffer(&self.kernels.stage, 0, &self.stages);
             let mut encoder = self
                 .gpu
                 .device
@@ -303,9 +138,13 @@ impl GpuWorld {
                     label: Some("steps"),
                     timestamp_writes: None,
                 });
-                pass.set_bind_group(0, &self.bind_group, &[]);
+                pass.set_bind_group(0, &self.kernels.state_group, &[]);
+                // Every pipeline's layout has the stage; the evaluations
+                // move it to their slots.
+                pass.set_bind_group(1, &self.kernels.stage_group, &[0]);
+                let mut slot = 0;
                 for _ in 0..batch {
-                    self.encode_step(&mut pass);
+                    self.encode_step(&mut pass, &mut slot);
                 }
             }
             self.gpu.queue.submit([encoder.finish()]);
@@ -314,35 +153,74 @@ impl GpuWorld {
         self.pending += steps;
     }
 
-    /// One step's kernels, each over every particle, then the count.
-    fn encode_step(&mut self, pass: &mut wgpu::ComputePass) {
+    /// The stage slots of the next `batch` steps: each force evaluation's
+    /// time and nRT, the clock moved on.
+    fn fill_stages(&mut self, batch: u64) {
+        let stride = self.kernels.stride as usize;
+        self.stages.clear();
+        for _ in 0..batch * u64::from(self.substeps) {
+            for &offset in evaluations(self.kind) {
+                let time = self.time + offset * self.h;
+                let start = self.stages.len();
+                self.stages.resize(start + stride, 0);
+                let slot = &mut self.stages[start..start + STAGE_BYTES as usize];
+                let mut values = vec![time as f32, 0.0, 0.0, 0.0];
+                values.extend(self.gas.nrt(time));
+                let bytes: &[u8] = bytemuck::cast_slice(&values);
+                slot[..bytes.len()].copy_from_slice(bytes);
+            }
+            self.time += self.h;
+        }
+    }
+
+    /// One step's kernels, each over every particle, then the count;
+    /// `slot` is the next stage slot.
+    fn encode_step(&mut self, pass: &mut wgpu::ComputePass, slot: &mut u64) {
         let (x, y) = self.groups;
-        let p = &self.pipelines;
-        let mut run = |pipeline: &wgpu::ComputePipeline| {
+        let p = &self.kernels.pipelines;
+        let run = |pass: &mut wgpu::ComputePass, pipeline: &wgpu::ComputePipeline| {
             pass.set_pipeline(pipeline);
             pass.dispatch_workgroups(x, y, 1);
+        };
+        let gas_bodies = self.gas.bodies.len() as u32;
+        let (stage_group, stride, gas_groups) = (
+            &self.kernels.stage_group,
+            self.kernels.stride,
+            self.gas_groups,
+        );
+        // The forces at the trial state, with the slot's time and nRT.
+        let forces = |pass: &mut wgpu::ComputePass, slot: &mut u64| {
+            pass.set_bind_group(1, stage_group, &[(*slot * stride) as u32]);
+            *slot += 1;
+            if gas_bodies > 0 {
+                pass.set_pipeline(&p.volume_parts);
+                pass.dispatch_workgroups(gas_groups.0, gas_groups.1, 1);
+                pass.set_pipeline(&p.pressures);
+                pass.dispatch_workgroups(gas_bodies.div_ceil(64), 1, 1);
+            }
+            run(pass, &p.forces);
         };
         for _ in 0..self.substeps {
             match self.kind {
                 IntegratorKind::Verlet => {
-                    run(&p.forces);
+                    forces(pass, slot);
                     if self.first {
-                        run(&p.verlet_start);
+                        run(pass, &p.verlet_start);
                     }
-                    run(&p.verlet);
+                    run(pass, &p.verlet);
                 }
                 IntegratorKind::Rk4 => {
-                    run(&p.rk4_begin);
+                    run(pass, &p.rk4_begin);
                     for stage in &p.rk4_stages {
-                        run(&p.forces);
-                        run(stage);
+                        forces(pass, slot);
+                        run(pass, stage);
                     }
-                    run(&p.forces);
-                    run(&p.rk4_end);
+                    forces(pass, slot);
+                    run(pass, &p.rk4_end);
                 }
                 _ => {
-                    run(&p.forces);
-                    run(&p.symplectic);
+                    forces(pass, slot);
+                    run(pass, &p.symplectic);
                 }
             }
             self.first = false;
@@ -377,7 +255,7 @@ impl GpuWorld {
             return Err(GpuError::Device(failure));
         }
         let n = self.count as u64;
-        let b = &self.buffers;
+        let b = &self.kernels;
         let mut encoder = self
             .gpu
             .device

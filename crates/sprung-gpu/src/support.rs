@@ -1,15 +1,16 @@
 //! What the GPU step runs, and the refusal of a world that asks for more.
 //!
 //! The GPU step is the explicit step of a world of particles, springs,
-//! gravity, air drag and static colliders (plane and sphere, projection
+//! gas (the exact volume), gravity, air drag and static colliders (plane and sphere, projection
 //! or penalty), under symplectic Euler, Verlet or RK4, with a fixed
 //! number of substeps. Everything else is refused before the run with the
 //! feature named ([`GpuError::Unsupported`]), so a scene never runs on
 //! the GPU with a force or stage quietly left out.
 
 use sprung::forces::{AirDrag, Gravity};
-use sprung::{IntegratorKind, Substeps, World};
+use sprung::{IntegratorKind, Substeps, VolumeModel, World};
 
+use crate::gas::MAX_GAS_BODIES;
 use crate::GpuError;
 
 /// The integrators the GPU step has.
@@ -47,7 +48,7 @@ pub fn check(world: &World) -> Result<(), GpuError> {
             "gravity" => any.is::<Gravity>(),
             "air drag" => any.is::<AirDrag>(),
             "collider contacts" => true,
-            "gas pressure" => world.bodies.iter().all(|b| b.gas.is_none()),
+            "gas pressure" => true,
             "body contacts" => !world.bodies_may_touch(),
             _ => false,
         };
@@ -55,8 +56,12 @@ pub fn check(world: &World) -> Result<(), GpuError> {
             return lacks(name);
         }
     }
-    if world.bodies.iter().any(|b| b.gas.is_some()) {
-        return lacks("gas pressure");
+    let gases = world.bodies.iter().filter_map(|b| b.gas.as_ref());
+    if gases.clone().any(|g| g.volume_model != VolumeModel::Exact) {
+        return lacks("the bounding-box and bounding-ellipsoid volume models (the GPU step has the exact volume)");
+    }
+    if gases.count() > MAX_GAS_BODIES {
+        return lacks(&format!("more than {MAX_GAS_BODIES} bodies with gas"));
     }
     if !world.rods.is_empty() {
         return lacks("rods");
