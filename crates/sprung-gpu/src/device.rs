@@ -43,7 +43,7 @@ impl Gpu {
         let info = adapter.get_info();
         let available = adapter.limits();
         let limits = wgpu::Limits {
-            // The kernels bind 12.
+            // The kernels bind 15.
             max_storage_buffers_per_shader_stage: available
                 .max_storage_buffers_per_shader_stage
                 .min(16),

@@ -11,8 +11,9 @@ use sprung::{Body, Gas, Real, World};
 pub const PART: usize = 64;
 
 /// The most gas bodies a world on the GPU may have (their nRT values ride
-/// in one 256-byte uniform slot a force evaluation).
-pub const MAX_GAS_BODIES: usize = 60;
+/// in one 256-byte uniform slot a force evaluation, after the time and the
+/// wind).
+pub const MAX_GAS_BODIES: usize = 48;
 
 /// Marks a segment (a 2D loop's element) in [`GasLayout::elements`]' third
 /// index.

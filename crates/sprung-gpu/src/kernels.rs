@@ -105,6 +105,9 @@ impl Kernels {
             ("element_first", bytes(&gas.element_first)),
             ("element_links", bytes(&gas.element_links)),
             ("gas_sums", bytes(&vec![0f32; parts])),
+            ("wind_elements", bytes(&layout.wind.elements)),
+            ("wind_first", bytes(&layout.wind.first)),
+            ("wind_links", bytes(&layout.wind.links)),
         ];
         let mut made = Vec::with_capacity(buffers.len());
         for (label, contents) in &buffers {
@@ -140,6 +143,9 @@ impl Kernels {
             "elements",
             "element_first",
             "element_links",
+            "wind_elements",
+            "wind_first",
+            "wind_links",
         ];
         let mut entries = vec![entry(0, Uniform, false)];
         for (k, (label, _)) in buffers.iter().enumerate() {

@@ -42,14 +42,24 @@ struct Params {
     collider: array<Collider, 64>,
     // Per gas body, its first partial volume and how many (x, y), and the
     // next body's (z, w).
-    gas: array<vec4<u32>, 30>,
+    gas: array<vec4<u32>, 24>,
+    // The wind's model (x: 0 none, 1 simple, 2 area) and turbulent modes
+    // (y); its coefficient (N·s/m) or air density (kg/m³) (x), lift (y) and
+    // the modes' amplitude (m/s, z); per mode, its direction, then its
+    // wave vector (1/m).
+    wind_kind: vec4<u32>,
+    wind: vec4<f32>,
+    modes: array<vec4<f32>, 16>,
 }
 
-// What changes from one force evaluation to the next: the time (s, x) and
-// each gas body's nRT (J), four to a vector.
+// What changes from one force evaluation to the next: the time (s, x), the
+// wind's gusting mean (m/s, xyz), each turbulent mode's phase φ - ω t
+// (rad), and each gas body's nRT (J), four to a vector.
 struct Stage {
     time: vec4<f32>,
-    nrt: array<vec4<f32>, 15>,
+    wind: vec4<f32>,
+    phases: array<vec4<f32>, 2>,
+    nrt: array<vec4<f32>, 12>,
 }
 
 // One spring as one of its ends sees it: the other end, and the spring.
@@ -89,6 +99,12 @@ struct Spring {
 @group(0) @binding(11) var<storage, read> element_links: array<u32>;
 // The partial volumes (m³, or m² in 2D), then each gas body's pressure.
 @group(0) @binding(12) var<storage, read_write> gas_sums: array<f32>;
+// Per wind element: its particles (a segment's third is 0xffffffff) and
+// its body's wind scale (f32 bits); particle i's are
+// wind_links[wind_first[i]..wind_first[i + 1]].
+@group(0) @binding(13) var<storage, read> wind_elements: array<vec4<u32>>;
+@group(0) @binding(14) var<storage, read> wind_first: array<u32>;
+@group(0) @binding(15) var<storage, read> wind_links: array<u32>;
 @group(1) @binding(0) var<uniform> stage: Stage;
 // [0]: steps taken; [1]: the first step whose state blew up (counted from
 // 1), or 0xffffffff.
@@ -175,6 +191,7 @@ fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var e = element_first[i]; e < element_first[i + 1u]; e++) {
         force += gas_push(elements[element_links[e]]);
     }
+    force += wind_force(i, xi, vi);
     force += penalty(xi, vi);
     force -= params.gravity.w * vi;
     f[i] = vec4<f32>(force, 0.0);
@@ -209,6 +226,88 @@ fn gas_push(element: vec4<u32>) -> vec3<f32> {
         return 0.5 * pressure * vec3<f32>(d.y, -d.x, 0.0);
     }
     return pressure / 3.0 * 0.5 * cross(d, x[element.z].xyz - a);
+}
+
+// The wind at `p` (WindField::velocity_at): the gusting mean and each
+// turbulent mode.
+fn wind_at(p: vec3<f32>) -> vec3<f32> {
+    var wind = stage.wind.xyz;
+    for (var m = 0u; m < params.wind_kind.y; m++) {
+        let angle = dot(params.modes[2u * m + 1u].xyz, p) + stage.phases[m / 4u][m % 4u];
+        wind += params.wind.z * cos(angle) * params.modes[2u * m].xyz;
+    }
+    return wind;
+}
+
+fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
+    let length = length(v);
+    if length > 0.0 {
+        return v / length;
+    }
+    return vec3<f32>(0.0);
+}
+
+// A wind element's area normal: half the cross product of a face's sides,
+// or a segment's normal as long as it (a length per metre of depth).
+fn area_normal(element: vec4<u32>) -> vec3<f32> {
+    let a = x[element.x].xyz;
+    let d = x[element.y].xyz - a;
+    if element.z == SEGMENT {
+        return vec3<f32>(d.y, -d.x, 0.0);
+    }
+    return 0.5 * cross(d, x[element.z].xyz - a);
+}
+
+// The wind's force on particle i (forces::Wind): the simple model's
+// c ((w - v) · n) n with n its faces' mean unit normal, or its share of
+// each of its faces' ρ A ((w - v) · n) n (with lift).
+fn wind_force(i: u32, p: vec3<f32>, u: vec3<f32>) -> vec3<f32> {
+    let model = params.wind_kind.x;
+    var force = vec3<f32>(0.0);
+    if model == 0u {
+        return force;
+    }
+    var normals = vec3<f32>(0.0);
+    var scale = 1.0;
+    for (var e = wind_first[i]; e < wind_first[i + 1u]; e++) {
+        let element = wind_elements[wind_links[e]];
+        scale = bitcast<f32>(element.w);
+        if model == 1u {
+            normals += normalize_or_zero(area_normal(element));
+            continue;
+        }
+        let normal = area_normal(element);
+        let area = length(normal);
+        if area == 0.0 {
+            continue;
+        }
+        let n = normal / area;
+        var corners = 3.0;
+        var centroid = x[element.x].xyz + x[element.y].xyz;
+        var mean_velocity = v[element.x].xyz + v[element.y].xyz;
+        if element.z == SEGMENT {
+            corners = 2.0;
+        } else {
+            centroid += x[element.z].xyz;
+            mean_velocity += v[element.z].xyz;
+        }
+        centroid /= corners;
+        mean_velocity /= corners;
+        let relative = scale * wind_at(centroid) - mean_velocity;
+        var f = params.wind.x * area * dot(relative, n) * n;
+        if params.wind.y != 0.0 {
+            let along = normalize_or_zero(relative);
+            f += params.wind.y * (f - dot(f, along) * along);
+        }
+        force += f / corners;
+    }
+    if model == 1u {
+        let n = normalize_or_zero(normals);
+        if any(n != vec3<f32>(0.0)) {
+            force = params.wind.x * dot(scale * wind_at(p) - u, n) * n;
+        }
+    }
+    return force;
 }
 
 var<workgroup> part: array<f32, 64>;

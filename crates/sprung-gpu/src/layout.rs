@@ -8,6 +8,7 @@ use sprung::{ContactResponse, Shape, World};
 
 use crate::gas::{GasLayout, MAX_GAS_BODIES, PART};
 use crate::support::MAX_COLLIDERS;
+use crate::wind::{WindLayout, MAX_MODES};
 
 /// One spring as one of its ends sees it (`Link` in the kernels): 8
 /// bytes, so that a million-particle cloth's 12.6 million fit in a
@@ -86,6 +87,12 @@ pub struct Params {
     /// Per gas body, its first partial volume and how many; two bodies a
     /// vector.
     pub gas: [[u32; 4]; MAX_GAS_BODIES / 2],
+    /// The wind's model and modes in use ([`WindLayout::kind`]).
+    pub wind_kind: [u32; 4],
+    /// Its coefficients ([`WindLayout::coefficients`]).
+    pub wind: [f32; 4],
+    /// Its modes ([`WindLayout::modes`]).
+    pub modes: [[f32; 4]; 2 * MAX_MODES],
 }
 
 /// A world as the kernels read it.
@@ -104,6 +111,8 @@ pub struct Layout {
     pub springs: Vec<Spring>,
     /// The gas bodies.
     pub gas: GasLayout,
+    /// The wind.
+    pub wind: WindLayout,
     /// The uniform block, for a (sub)step of `h`.
     pub params: Params,
 }
@@ -209,6 +218,7 @@ impl Layout {
         }
         let (row, _) = grid(n as u32);
         let gas = GasLayout::of(world);
+        let wind = WindLayout::of(world);
         let elements = gas.elements.len() as u32;
         let mut spans = [[0u32; 4]; MAX_GAS_BODIES / 2];
         for (k, body) in gas.bodies.iter().enumerate().take(MAX_GAS_BODIES) {
@@ -231,6 +241,9 @@ impl Layout {
             pad2: 0.0,
             collider,
             gas: spans,
+            wind_kind: wind.kind,
+            wind: wind.coefficients,
+            modes: wind.modes,
         };
         Layout {
             position,
@@ -239,6 +252,7 @@ impl Layout {
             links,
             springs: constants.collect(),
             gas,
+            wind,
             params,
         }
     }

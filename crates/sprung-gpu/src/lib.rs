@@ -31,6 +31,7 @@ mod kernels;
 mod layout;
 mod step;
 pub mod support;
+pub mod wind;
 
 pub use device::{adapter_summary, Gpu};
 pub use layout::{grid, GpuCollider, Layout, Link, Params, Spring};

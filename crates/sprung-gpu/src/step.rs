@@ -6,6 +6,7 @@ use sprung::{IntegratorKind, Real, Substeps, Vec3, World};
 use crate::gas::GasLayout;
 use crate::kernels::{Kernels, STAGE_BYTES};
 use crate::layout::{grid, Layout};
+use crate::wind::WindLayout;
 use crate::{support, Gpu, GpuError};
 
 /// Steps encoded into one submission (a long run is cut so that no
@@ -34,6 +35,8 @@ pub struct GpuWorld {
     gas_groups: (u32, u32),
     /// The gas bodies' schedules, and how many.
     gas: GasLayout,
+    /// The wind's field, for its time-dependent parts.
+    wind: WindLayout,
     kernels: Kernels,
     /// The stage slots of the submission being encoded.
     stages: Vec<u8>,
@@ -96,6 +99,7 @@ impl GpuWorld {
             groups: grid(count as u32),
             gas_groups: grid(layout.params.elements),
             gas: layout.gas,
+            wind: layout.wind,
             kernels: made?,
             stages: Vec::new(),
             first: true,
@@ -165,6 +169,7 @@ impl GpuWorld {
                 self.stages.resize(start + stride, 0);
                 let slot = &mut self.stages[start..start + STAGE_BYTES as usize];
                 let mut values = vec![time as f32, 0.0, 0.0, 0.0];
+                values.extend(self.wind.stage(time));
                 values.extend(self.gas.nrt(time));
                 let bytes: &[u8] = bytemuck::cast_slice(&values);
                 slot[..bytes.len()].copy_from_slice(bytes);

@@ -1,13 +1,13 @@
 //! What the GPU step runs, and the refusal of a world that asks for more.
 //!
 //! The GPU step is the explicit step of a world of particles, springs,
-//! gas (the exact volume), gravity, air drag and static colliders (plane and sphere, projection
+//! gas (the exact volume), wind, gravity, air drag and static colliders (plane and sphere, projection
 //! or penalty), under symplectic Euler, Verlet or RK4, with a fixed
 //! number of substeps. Everything else is refused before the run with the
 //! feature named ([`GpuError::Unsupported`]), so a scene never runs on
 //! the GPU with a force or stage quietly left out.
 
-use sprung::forces::{AirDrag, Gravity};
+use sprung::forces::{AirDrag, Gravity, Wind};
 use sprung::{IntegratorKind, Substeps, VolumeModel, World};
 
 use crate::gas::MAX_GAS_BODIES;
@@ -49,6 +49,9 @@ pub fn check(world: &World) -> Result<(), GpuError> {
             "air drag" => any.is::<AirDrag>(),
             "collider contacts" => true,
             "gas pressure" => true,
+            "wind" => {
+                any.is::<Wind>() && world.forces.iter().filter(|f| f.name() == "wind").count() == 1
+            }
             "body contacts" => !world.bodies_may_touch(),
             _ => false,
         };

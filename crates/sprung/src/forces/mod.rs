@@ -66,7 +66,7 @@ pub use spring::pulls_alone;
 pub(crate) use spring::SpringJacobian;
 pub use spring::{spring_energy, SpringForce};
 pub use wind::{Wind, WindModel, AIR_DENSITY};
-pub use wind_field::{Gusts, Turbulence, WindField};
+pub use wind_field::{Gusts, Turbulence, TurbulentMode, WindField};
 
 use crate::body::Body;
 use crate::colliders::Collider;

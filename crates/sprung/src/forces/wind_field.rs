@@ -33,13 +33,18 @@ pub struct Turbulence {
 /// Number of sinusoidal modes of the turbulent field.
 const TURBULENT_MODES: usize = 8;
 
-/// One sinusoid of the turbulent field: `amplitude · cos(k·x - ω t + φ)`.
+/// One sinusoid of the turbulent field: its share of the wind is
+/// `scale · cos(k·x - ω t + φ) · direction` ([`WindField::turbulence_scale`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Mode {
-    direction: Vec3,
-    wave_vector: Vec3,
-    frequency: Real,
-    phase: Real,
+pub struct TurbulentMode {
+    /// The unit direction it blows along.
+    pub direction: Vec3,
+    /// Its wave vector `k` (1/m).
+    pub wave_vector: Vec3,
+    /// Its angular frequency `ω` (rad/s).
+    pub frequency: Real,
+    /// Its phase `φ` (rad).
+    pub phase: Real,
 }
 
 /// The wind velocity field.
@@ -48,7 +53,7 @@ pub struct WindField {
     /// Mean wind velocity (m/s).
     pub velocity: Vec3,
     gusts: Option<(Gusts, [(Real, Real); 3])>,
-    turbulence: Option<(Turbulence, Vec<Mode>)>,
+    turbulence: Option<(Turbulence, Vec<TurbulentMode>)>,
 }
 
 impl WindField {
@@ -83,7 +88,7 @@ impl WindField {
         });
         let turbulence = turbulence.map(|t| {
             let modes = (0..TURBULENT_MODES)
-                .map(|_| Mode {
+                .map(|_| TurbulentMode {
                     direction: random.direction(),
                     wave_vector: random.direction() * (0.5 + 1.5 * random.unit()) / t.length_scale,
                     frequency: (0.5 + random.unit()) / t.time_scale,
@@ -99,8 +104,21 @@ impl WindField {
         }
     }
 
-    /// Wind velocity at position `x` (m) and time `t` (s), in m/s.
+    /// Wind velocity at position `x` (m) and time `t` (s), in m/s: the
+    /// gusting mean ([`WindField::gusting_at`]) plus each turbulent mode.
     pub fn velocity_at(&self, x: Vec3, t: Real) -> Vec3 {
+        let mut wind = self.gusting_at(t);
+        let scale = self.turbulence_scale();
+        for mode in self.turbulent_modes() {
+            let angle = mode.wave_vector.dot(x) - mode.frequency * t + mode.phase;
+            wind += scale * angle.cos() * mode.direction;
+        }
+        wind
+    }
+
+    /// The mean velocity scaled by the gusts at time `t` (s), in m/s: the
+    /// wind everywhere but for the turbulence.
+    pub fn gusting_at(&self, t: Real) -> Vec3 {
         let mut wind = self.velocity;
         if let Some((gusts, modes)) = &self.gusts {
             let g: Real = modes
@@ -110,14 +128,21 @@ impl WindField {
                 / 3.0;
             wind *= 1.0 + gusts.amplitude * g;
         }
-        if let Some((turbulence, modes)) = &self.turbulence {
-            let scale = turbulence.amplitude * (2.0 / TURBULENT_MODES as Real).sqrt();
-            for mode in modes {
-                let angle = mode.wave_vector.dot(x) - mode.frequency * t + mode.phase;
-                wind += scale * angle.cos() * mode.direction;
-            }
-        }
         wind
+    }
+
+    /// The turbulent modes (none without turbulence).
+    pub fn turbulent_modes(&self) -> &[TurbulentMode] {
+        self.turbulence.as_ref().map_or(&[], |(_, modes)| modes)
+    }
+
+    /// The amplitude of each turbulent mode (m/s): the turbulence's
+    /// amplitude times `√(2 / modes)`, so that the modes' sum has the
+    /// amplitude as its root-mean-square speed.
+    pub fn turbulence_scale(&self) -> Real {
+        self.turbulence.as_ref().map_or(0.0, |(t, _)| {
+            t.amplitude * (2.0 / TURBULENT_MODES as Real).sqrt()
+        })
     }
 
     /// Check the parameters: a finite mean; gust amplitude in [0, 1] and a
