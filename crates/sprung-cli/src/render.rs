@@ -7,10 +7,11 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use sprung::{IntegratorKind, Real, Vec3};
-use sprung_io::{load_scene_overridden, Override, SceneCamera};
+use sprung_gpu::{GpuError, GpuWorld};
+use sprung_io::{load_scene_overridden, Device, Override, SceneCamera};
 use sprung_view::render::{
-    read_run, record, render_to_dir, steps_between_pictures, RenderError, RenderSettings, Rendered,
-    Snapshot, StrainColours, DEFAULT_FOV_DEGREES, DEFAULT_PICTURE_RATE,
+    read_run, record, record_by, render_to_dir, steps_between_pictures, RenderError,
+    RenderSettings, Rendered, Snapshot, StrainColours, DEFAULT_FOV_DEGREES, DEFAULT_PICTURE_RATE,
 };
 
 use crate::run::CliError;
@@ -77,6 +78,10 @@ pub struct RenderArgs {
     /// Override a scene's integrator.
     #[arg(long)]
     integrator: Option<IntegratorKind>,
+    /// Where a scene's steps run: cpu or gpu (docs/gpu.md), instead of its
+    /// `device`.
+    #[arg(long)]
+    device: Option<Device>,
     /// Set a key of a scene: `sim.dt=1e-4`, `body.NAME.stiffness=200`,
     /// `collider.0.friction=0.5` (repeatable; docs/scenes.md, "Overrides").
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -236,7 +241,24 @@ fn run_scene(
             MAX_SNAPSHOT_BYTES as f64 / 1e9
         )));
     }
-    let recording = record(&mut scene.world, scene.dt, steps, every);
+    let recording = match args.device.unwrap_or(scene.device) {
+        Device::Cpu => record(&mut scene.world, scene.dt, steps, every),
+        Device::Gpu => {
+            let gpu_error = |e: &GpuError| CliError::Input(format!("--device gpu: {e}"));
+            let mut gpu = GpuWorld::new(&scene.world, scene.dt).map_err(|e| gpu_error(&e))?;
+            if !args.quiet {
+                eprintln!("note: stepping on the GPU: {}", gpu.gpu().name());
+            }
+            record_by(&mut scene.world, steps, every, |world, count| {
+                gpu.step(count);
+                match gpu.read_into(world) {
+                    Ok(()) => Ok(Ok(())),
+                    Err(GpuError::Step(blow_up)) => Ok(Err(blow_up)),
+                    Err(failure) => Err(gpu_error(&failure)),
+                }
+            })?
+        }
+    };
     Ok((recording.snapshots, recording.blow_up, scene.camera))
 }
 

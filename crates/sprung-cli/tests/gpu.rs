@@ -175,3 +175,30 @@ fn no_adapter_is_a_clear_error() {
     assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
     assert!(!dir.path().join("gpu").exists());
 }
+
+/// `render --device gpu` draws a scene stepped on the GPU: as many
+/// pictures as on the engine, the state read back for each.
+#[test]
+fn render_draws_a_scene_stepped_on_the_gpu() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(dir.path(), "swing.toml", SWING);
+    let scene = scene.to_str().unwrap();
+    let args = [
+        "render", scene, "--every", "250", "--width", "64", "--height", "48",
+    ];
+    let gpu = sprung(&[&args[..], &["--out", "gpu"]].concat(), dir.path());
+    let stderr = text(&gpu.stderr);
+    if no_gpu(&stderr) {
+        return;
+    }
+    assert!(gpu.status.success(), "{stderr}");
+    assert!(stderr.contains("note: stepping on the GPU: "), "{stderr}");
+    let cpu = sprung(
+        &[&args[..], &["--out", "cpu", "--device", "cpu"]].concat(),
+        dir.path(),
+    );
+    assert!(cpu.status.success(), "{}", text(&cpu.stderr));
+    let pictures = |folder: &str| std::fs::read_dir(dir.path().join(folder)).unwrap().count();
+    assert_eq!(pictures("gpu"), 5, "the start and every 250 of 1000 steps");
+    assert_eq!(pictures("gpu"), pictures("cpu"));
+}

@@ -57,7 +57,8 @@ pub use output::{
 };
 pub use snapshot::{chain_loops, Model, Snapshot};
 pub use source::{
-    frame_files, read_run, record, steps_between_pictures, Recording, DEFAULT_PICTURE_RATE,
+    frame_files, read_run, record, record_by, steps_between_pictures, Recording,
+    DEFAULT_PICTURE_RATE,
 };
 pub use strain::StrainColours;
 pub use style::Style;

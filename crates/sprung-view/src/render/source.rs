@@ -38,29 +38,50 @@ pub struct Recording {
 /// first step, after every `every` steps (0 counts as 1) and after the
 /// last. A blow-up stops the run and is returned with the snapshots so far.
 pub fn record(world: &mut World, dt: Real, steps: u64, every: u64) -> Recording {
+    let advance = |world: &mut World, count| {
+        Ok::<_, std::convert::Infallible>((0..count).try_for_each(|_| world.step(dt).map(drop)))
+    };
+    match record_by(world, steps, every, advance) {
+        Ok(recording) => recording,
+        Err(never) => match never {},
+    }
+}
+
+/// [`record`], the steps taken by `advance(world, count)` (`count` steps
+/// at a time, up to the next snapshot: the GPU step's way, which reads
+/// the state back only then). `advance` answers `Ok(Err(blow_up))` for a
+/// blow-up, which ends the recording, and `Err(failure)` for a failure
+/// of its own, which is returned instead.
+pub fn record_by<E>(
+    world: &mut World,
+    steps: u64,
+    every: u64,
+    mut advance: impl FnMut(&mut World, u64) -> Result<Result<(), StepError>, E>,
+) -> Result<Recording, E> {
     let every = every.max(1);
     let mut model = Arc::new(Model::of_world(world));
     let mut snapshots = vec![Snapshot::of_world(world, &model)];
-    for step in 1..=steps {
-        if let Err(error) = world.step(dt) {
-            return Recording {
+    let mut done = 0;
+    while done < steps {
+        let count = (every - done % every).min(steps - done);
+        if let Err(error) = advance(world, count)? {
+            return Ok(Recording {
                 snapshots,
                 blow_up: Some(error),
-            };
+            });
         }
-        if step % every == 0 || step == steps {
-            // Springs that yield or break change the model (rest lengths,
-            // springs gone, faces opened): drawn afresh.
-            if world.limits.enabled() {
-                model = Arc::new(Model::of_world(world));
-            }
-            snapshots.push(Snapshot::of_world(world, &model));
+        done += count;
+        // Springs that yield or break change the model (rest lengths,
+        // springs gone, faces opened): drawn afresh.
+        if world.limits.enabled() {
+            model = Arc::new(Model::of_world(world));
         }
+        snapshots.push(Snapshot::of_world(world, &model));
     }
-    Recording {
+    Ok(Recording {
         snapshots,
         blow_up: None,
-    }
+    })
 }
 
 /// The VTK frames of the run in `dir`: `dir/frames/frame_*.vtu` or
