@@ -103,6 +103,13 @@ pub fn run(path: &Path, overrides: &[Override]) -> Result<(), CliError> {
     } else {
         println!("  stable step of the explicit integrators: unlimited (nothing stiff)");
     }
+    match sprung_gpu::support::check(world) {
+        Ok(()) => println!("  the GPU step (--device gpu) can run it"),
+        Err(sprung_gpu::GpuError::Unsupported(feature)) => {
+            println!("  the GPU step (--device gpu) lacks {feature}");
+        }
+        Err(other) => println!("  the GPU step (--device gpu): {other}"),
+    }
     for warning in scene.warnings.iter().chain(&start_warnings(world)) {
         eprintln!("warning: {warning}");
     }

@@ -202,3 +202,22 @@ fn render_draws_a_scene_stepped_on_the_gpu() {
     assert_eq!(pictures("gpu"), 5, "the start and every 250 of 1000 steps");
     assert_eq!(pictures("gpu"), pictures("cpu"));
 }
+
+/// `check` says whether the GPU step can run a scene, and what it lacks
+/// where it cannot (no GPU needed).
+#[test]
+fn check_says_whether_the_gpu_step_can_run_a_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let swing = write(dir.path(), "swing.toml", SWING);
+    let out = sprung(&["check", swing.to_str().unwrap()], dir.path());
+    assert!(out.status.success());
+    assert!(text(&out.stdout).contains("  the GPU step (--device gpu) can run it\n"));
+    let implicit = SWING.replace("device = \"gpu\"", "integrator = \"implicit_euler\"");
+    let implicit = write(dir.path(), "implicit.toml", &implicit);
+    let out = sprung(&["check", implicit.to_str().unwrap()], dir.path());
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("the GPU step (--device gpu) lacks the implicit_euler integrator"),
+        "{stdout}"
+    );
+}
