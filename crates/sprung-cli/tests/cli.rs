@@ -3,35 +3,9 @@
 
 mod common;
 
-use common::{assert_no_partial_files, sprung, text, write, BLOW_UP_SCENE};
+use common::{assert_no_partial_files, csv, sprung, text, write, BLOW_UP_SCENE};
 
 use std::path::Path;
-
-/// Rows of a CSV file: header, then the records.
-fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let content = std::fs::read_to_string(path).expect("csv exists");
-    let mut lines = content.lines();
-    let header = lines
-        .next()
-        .expect("header")
-        .split(',')
-        .map(String::from)
-        .collect();
-    let rows = lines
-        .map(|l| {
-            l.split(',')
-                .map(|v| {
-                    if v.is_empty() {
-                        0.0
-                    } else {
-                        v.parse().expect("number")
-                    }
-                })
-                .collect()
-        })
-        .collect();
-    (header, rows)
-}
 
 const PENDULUM: &str = r#"[sim]
 dt = 1e-3

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{sprung, text, write};
+use common::{csv, sprung, text, write};
 
 /// A 16² cloth, 0.05 kg, 300 N/m, held by two corners and let go to swing
 /// down for 0.2 s under symplectic Euler: no contact, so the GPU follows
@@ -39,26 +39,6 @@ fn no_gpu(stderr: &str) -> bool {
     absent
 }
 
-/// The rows of a diagnostics file, as numbers (empty cells as NaN).
-fn rows(path: &std::path::Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let file = std::fs::read_to_string(path).expect("diagnostics.csv");
-    let mut lines = file.lines();
-    let header = lines
-        .next()
-        .expect("a header")
-        .split(',')
-        .map(String::from)
-        .collect();
-    let rows = lines
-        .map(|l| {
-            l.split(',')
-                .map(|c| c.parse().unwrap_or(f64::NAN))
-                .collect()
-        })
-        .collect();
-    (header, rows)
-}
-
 /// The scene's `device = "gpu"` runs it on the GPU; `--device cpu` on the
 /// engine: the same rows at the same times, the probed particle within
 /// 10⁻⁵ m (1000 steps of f32 round-off at 1 m, 6·10⁻⁸ m each, add up as
@@ -83,8 +63,8 @@ fn a_scene_runs_on_the_gpu_as_on_the_engine() {
     let cpu = sprung(&[&args[..], &probe].concat(), dir.path());
     assert!(cpu.status.success(), "{}", text(&cpu.stderr));
     assert!(!text(&cpu.stderr).contains("GPU"));
-    let (header, on_gpu) = rows(&dir.path().join("gpu/diagnostics.csv"));
-    let (_, on_cpu) = rows(&dir.path().join("cpu/diagnostics.csv"));
+    let (header, on_gpu) = csv(&dir.path().join("gpu/diagnostics.csv"));
+    let (_, on_cpu) = csv(&dir.path().join("cpu/diagnostics.csv"));
     assert_eq!(
         on_gpu.len(),
         11,

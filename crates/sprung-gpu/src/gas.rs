@@ -5,6 +5,8 @@
 
 use sprung::{Body, Gas, Real, World};
 
+use crate::layout::adjacency;
+
 /// Elements a workgroup sums into one partial volume (the kernels'
 /// workgroup size): each body's elements are padded to a multiple of it,
 /// so that no workgroup mixes two bodies.
@@ -83,34 +85,18 @@ impl GasLayout {
             });
             layout.gas.extend(body.gas.clone());
         }
-        let n = world.particles.len();
-        let corners = |e: &[u32; 4]| -> Vec<u32> {
-            if e[0] == e[1] && e[1] == e[2] {
-                Vec::new() // padding
-            } else if e[2] == SEGMENT {
-                vec![e[0], e[1]]
-            } else {
-                vec![e[0], e[1], e[2]]
-            }
-        };
-        let mut count = vec![0u32; n + 1];
-        for e in &layout.elements {
-            for p in corners(e) {
-                count[p as usize + 1] += 1;
-            }
-        }
-        for i in 0..n {
-            count[i + 1] += count[i];
-        }
-        let mut next = count.clone();
-        layout.element_links = vec![0; count[n] as usize];
+        let mut corners = Vec::new();
         for (k, e) in layout.elements.iter().enumerate() {
-            for p in corners(e) {
-                layout.element_links[next[p as usize] as usize] = k as u32;
-                next[p as usize] += 1;
-            }
+            let count = if e[0] == e[1] && e[1] == e[2] {
+                0 // padding
+            } else if e[2] == SEGMENT {
+                2
+            } else {
+                3
+            };
+            corners.extend(e[..count].iter().map(|&p| (p, k as u32)));
         }
-        layout.element_first = count;
+        (layout.element_first, layout.element_links) = adjacency(world.particles.len(), &corners);
         layout
     }
 

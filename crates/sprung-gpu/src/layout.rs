@@ -117,6 +117,26 @@ pub struct Layout {
     pub params: Params,
 }
 
+/// A compressed adjacency of `n` particles: `entries` are (particle,
+/// item) pairs; particle `i`'s items are `items[first[i]..first[i + 1]]`,
+/// in the entries' order. Returns `(first, items)`.
+pub fn adjacency<T: Copy>(n: usize, entries: &[(u32, T)]) -> (Vec<u32>, Vec<T>) {
+    let mut first = vec![0u32; n + 1];
+    for &(particle, _) in entries {
+        first[particle as usize + 1] += 1;
+    }
+    for i in 0..n {
+        first[i + 1] += first[i];
+    }
+    let mut next = first.clone();
+    let mut items: Vec<Option<T>> = vec![None; entries.len()];
+    for &(particle, item) in entries {
+        items[next[particle as usize] as usize] = Some(item);
+        next[particle as usize] += 1;
+    }
+    (first, items.into_iter().flatten().collect())
+}
+
 /// Workgroups of 64 along x of the dispatch grid that covers `count`
 /// particles (at most 65 535 per dimension).
 pub fn grid(count: u32) -> (u32, u32) {
@@ -150,32 +170,30 @@ impl Layout {
             .collect();
         let springs = &world.springs;
         let (ends_a, ends_b) = (springs.first(), springs.second());
-        let mut count = vec![0u32; n + 1];
-        let pushes = |s: usize| {
-            let live = !springs.is_broken(s);
-            (live && !springs.one_sided[s], live)
-        };
+        let mut ends = Vec::with_capacity(2 * springs.len());
         for s in 0..springs.len() {
-            let (a, b) = pushes(s);
-            count[ends_a[s] as usize + 1] += u32::from(a);
-            count[ends_b[s] as usize + 1] += u32::from(b);
-        }
-        for i in 0..n {
-            count[i + 1] += count[i];
-        }
-        let first = count.clone();
-        let mut next = count;
-        let mut links = vec![Link::zeroed(); first[n] as usize];
-        for s in 0..springs.len() {
-            let (a, b) = pushes(s);
-            for (push, at, other) in [(a, ends_a[s], ends_b[s]), (b, ends_b[s], ends_a[s])] {
-                if push {
-                    let spring = s as u32;
-                    links[next[at as usize] as usize] = Link { other, spring };
-                    next[at as usize] += 1;
-                }
+            if springs.is_broken(s) {
+                continue;
             }
+            let spring = s as u32;
+            if !springs.one_sided[s] {
+                ends.push((
+                    ends_a[s],
+                    Link {
+                        other: ends_b[s],
+                        spring,
+                    },
+                ));
+            }
+            ends.push((
+                ends_b[s],
+                Link {
+                    other: ends_a[s],
+                    spring,
+                },
+            ));
         }
+        let (first, links) = adjacency(n, &ends);
         let constants = (0..springs.len()).map(|s| Spring {
             rest: springs.rest_length[s] as f32,
             stiffness: springs.stiffness[s] as f32,

@@ -8,6 +8,7 @@ use sprung::forces::{Wind, WindModel};
 use sprung::{Real, World};
 
 use crate::gas::SEGMENT;
+use crate::layout::adjacency;
 
 /// The turbulent modes the kernels hold (the engine's wind has 8).
 pub const MAX_MODES: usize = 8;
@@ -50,26 +51,12 @@ impl WindLayout {
             let segments = body.segments.iter().map(|&[a, b]| [a, b, SEGMENT, bits]);
             layout.elements.extend(faces.chain(segments));
         }
-        let n = world.particles.len();
-        let corners = |e: &[u32; 4]| if e[2] == SEGMENT { 2 } else { 3 };
-        let mut count = vec![0u32; n + 1];
-        for e in &layout.elements {
-            for &p in &e[..corners(e)] {
-                count[p as usize + 1] += 1;
-            }
-        }
-        for i in 0..n {
-            count[i + 1] += count[i];
-        }
-        let mut next = count.clone();
-        layout.links = vec![0; count[n] as usize];
+        let mut corners = Vec::new();
         for (k, e) in layout.elements.iter().enumerate() {
-            for &p in &e[..corners(e)] {
-                layout.links[next[p as usize] as usize] = k as u32;
-                next[p as usize] += 1;
-            }
+            let count = if e[2] == SEGMENT { 2 } else { 3 };
+            corners.extend(e[..count].iter().map(|&p| (p, k as u32)));
         }
-        layout.first = count;
+        (layout.first, layout.links) = adjacency(world.particles.len(), &corners);
         let modes = wind.field.turbulent_modes();
         layout.kind = match wind.model {
             WindModel::Simple { .. } => [1, modes.len().min(MAX_MODES) as u32, 0, 0],

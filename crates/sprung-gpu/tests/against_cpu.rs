@@ -13,33 +13,33 @@ const KINDS: [IntegratorKind; 3] = [
     IntegratorKind::Rk4,
 ];
 
-/// A 24² cloth, 1 m square, 0.1 kg, 200 N/m springs, held flat by two
-/// corners and let go to swing down, with air drag.
-fn hung(kind: IntegratorKind) -> World {
-    let n = 24;
-    let cloth = build::cloth(n, n, 1.0, 1.0, ClothSprings::default())
+/// A 24² cloth, 1 m square, 0.1 kg, 200 N/m springs, lying flat.
+fn flat_cloth() -> BodyData {
+    build::cloth(24, 24, 1.0, 1.0, ClothSprings::default())
         .unwrap()
         .with_total_mass(0.1)
         .with_stiffness(200.0)
         .with_damping(0.02)
-        .with_pinned(vec![n * (n - 1), n * n - 1])
-        .placed(1.0, Vec3::new(-90.0, 0.0, 0.0), Vec3::ZERO);
+}
+
+/// The cloth held flat by two corners and let go to swing down, with air
+/// drag.
+fn hung(kind: IntegratorKind) -> World {
+    let cloth = flat_cloth().with_pinned(vec![24 * 23, 24 * 24 - 1]).placed(
+        1.0,
+        Vec3::new(-90.0, 0.0, 0.0),
+        Vec3::ZERO,
+    );
     let mut world = World::new(kind);
     world.add_body("cloth", cloth).unwrap();
     world.forces.set(AirDrag { coefficient: 1e-3 });
     world
 }
 
-/// The same cloth flat, dropped from 0.5 m onto a sphere (projection,
-/// with friction and restitution) over a penalty floor.
+/// The cloth dropped flat from 0.5 m onto a penalty sphere (with
+/// friction) over a projection floor (friction, no restitution).
 fn dropped(kind: IntegratorKind) -> World {
-    let n = 24;
-    let cloth = build::cloth(n, n, 1.0, 1.0, ClothSprings::default())
-        .unwrap()
-        .with_total_mass(0.1)
-        .with_stiffness(200.0)
-        .with_damping(0.02)
-        .placed(1.0, Vec3::new(-90.0, 0.0, 0.0), Vec3::new(-0.5, 0.5, 0.5));
+    let cloth = flat_cloth().placed(1.0, Vec3::new(-90.0, 0.0, 0.0), Vec3::new(-0.5, 0.5, 0.5));
     let mut world = World::new(kind);
     world.add_body("cloth", cloth).unwrap();
     let sphere = Shape::sphere(Vec3::ZERO, 0.25).unwrap();

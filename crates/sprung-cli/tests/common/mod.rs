@@ -64,3 +64,30 @@ pub fn assert_no_partial_files(dir: &Path) {
         }
     }
 }
+
+/// Rows of a CSV file: header, then the records, as numbers (an empty
+/// cell as 0).
+pub fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let content = std::fs::read_to_string(path).expect("csv exists");
+    let mut lines = content.lines();
+    let header = lines
+        .next()
+        .expect("header")
+        .split(',')
+        .map(String::from)
+        .collect();
+    let rows = lines
+        .map(|l| {
+            l.split(',')
+                .map(|v| {
+                    if v.is_empty() {
+                        0.0
+                    } else {
+                        v.parse().expect("number")
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    (header, rows)
+}
