@@ -204,26 +204,24 @@ pub fn run_scene(
             );
             return Err(CliError::Interrupted(signal, message));
         }
-        // One step on the CPU; on the GPU, the steps up to the next row.
+        // One step on the CPU; on the GPU, the steps up to the next row (or
+        // a quarter of a second's worth).
         let step = match &gpu {
-            Some(_) => on_gpu::stretch_end(next, steps, every),
+            Some(gpu) => gpu.stretch_end(next, steps, every),
             None => next,
         };
         next = step + 1;
         let stepped = match &mut gpu {
-            Some(gpu) => {
-                gpu.step(step - scene.world.steps());
-                match gpu.read_into(&mut scene.world) {
-                    Ok(()) => Ok(StepReport::default()),
-                    Err(GpuError::Step(error)) => Err(error),
-                    Err(other) => {
-                        progress.abandon();
-                        let place = outputs.finish(&scene.world, 0, false)?;
-                        let error = on_gpu::failed(&other);
-                        return Err(CliError::Input(format!("{error} (kept: {place})")));
-                    }
+            Some(gpu) => match gpu.advance(&mut scene.world, step) {
+                Ok(()) => Ok(StepReport::default()),
+                Err(GpuError::Step(error)) => Err(error),
+                Err(other) => {
+                    progress.abandon();
+                    let place = outputs.finish(&scene.world, 0, false)?;
+                    let error = on_gpu::failed(&other);
+                    return Err(CliError::Input(format!("{error} (kept: {place})")));
                 }
-            }
+            },
             None => scene.world.step(scene.dt),
         };
         let report = match stepped {

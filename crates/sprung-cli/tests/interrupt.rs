@@ -8,10 +8,10 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// Start the flag demo with VTK frames into `out`, wait until it has
-/// recorded some rows, send `signal`, and return the exit status and what
-/// it printed on stderr.
-fn interrupted_run(out: &Path, signal: &str) -> (Option<i32>, String) {
+/// Start the flag demo with VTK frames into `out` (and `extra` options),
+/// wait until it has recorded some rows, send `signal`, and return the
+/// exit status and what it printed on stderr.
+fn interrupted_run(out: &Path, signal: &str, extra: &[&str]) -> (Option<i32>, String) {
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/flag.toml");
     let child = Command::new(env!("CARGO_BIN_EXE_sprung"))
         .args([
@@ -23,6 +23,7 @@ fn interrupted_run(out: &Path, signal: &str) -> (Option<i32>, String) {
             "--out",
         ])
         .arg(out)
+        .args(extra)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
@@ -46,10 +47,10 @@ fn interrupted_run(out: &Path, signal: &str) -> (Option<i32>, String) {
     (output.status.code(), common::text(&output.stderr))
 }
 
-fn check(signal: &str, code: i32) {
+fn check(signal: &str, code: i32, extra: &[&str]) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("flag");
-    let (status, stderr) = interrupted_run(&out, signal);
+    let (status, stderr) = interrupted_run(&out, signal, extra);
     assert_eq!(status, Some(code), "{stderr}");
     assert!(stderr.contains(&format!("SIG{signal}")), "{stderr}");
     common::assert_no_partial_files(&out);
@@ -82,10 +83,38 @@ fn check(signal: &str, code: i32) {
 
 #[test]
 fn ctrl_c_stops_at_the_end_of_a_step_keeping_everything() {
-    check("INT", 130);
+    check("INT", 130, &[]);
 }
 
 #[test]
 fn sigterm_stops_at_the_end_of_a_step_keeping_everything() {
-    check("TERM", 143);
+    check("TERM", 143, &[]);
+}
+
+/// On the GPU the run reads its state back every quarter of a second at
+/// most (or at each row), so a signal stops it as soon and keeps as much
+/// (skipped where this machine has no adapter and `SPRUNG_GPU_TESTS` is
+/// not `require`).
+#[test]
+fn ctrl_c_stops_a_run_on_the_gpu_keeping_everything() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/flag.toml");
+    let probe = [
+        "run",
+        scene.to_str().unwrap(),
+        "--device",
+        "gpu",
+        "--steps",
+        "1",
+    ];
+    let probed = common::sprung(&probe, dir.path());
+    let stderr = common::text(&probed.stderr);
+    if stderr.contains("no GPU adapter found")
+        && std::env::var("SPRUNG_GPU_TESTS").as_deref() != Ok("require")
+    {
+        eprintln!("skipped: {stderr}");
+        return;
+    }
+    assert!(probed.status.success(), "{stderr}");
+    check("INT", 130, &["--device", "gpu"]);
 }
