@@ -35,6 +35,10 @@ pub struct ViewArgs {
     /// Window size in pixels, WIDTHxHEIGHT (default 1280x800).
     #[arg(long, value_name = "WxH")]
     size: Option<String>,
+    /// Where the steps run: cpu or gpu (the GPU step while it can run the
+    /// world; docs/gpu.md), instead of the scene's `device`.
+    #[arg(long)]
+    device: Option<sprung_io::Device>,
 }
 
 impl ViewArgs {
@@ -55,6 +59,7 @@ impl ViewArgs {
             self.exit_after.map(|s| s.to_string().into()),
         );
         flag("--size", self.size.clone().map(Into::into));
+        flag("--device", self.device.map(|d| d.name().into()));
         if let Some(scene) = &self.scene {
             args.push(scene.clone().into());
         }
@@ -144,12 +149,22 @@ mod tests {
             screenshot: Some(PathBuf::from("s.png")),
             exit_after: None,
             size: None,
+            device: Some(sprung_io::Device::Gpu),
         };
         let line: Vec<String> = args
             .to_args()
             .into_iter()
             .map(|a| a.to_string_lossy().into_owned())
             .collect();
-        assert_eq!(line, ["--frames", "5", "--screenshot", "s.png", "a.toml"]);
+        let expected = [
+            "--frames",
+            "5",
+            "--screenshot",
+            "s.png",
+            "--device",
+            "gpu",
+            "a.toml",
+        ];
+        assert_eq!(line, expected);
     }
 }

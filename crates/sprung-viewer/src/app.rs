@@ -8,6 +8,7 @@ use sprung::{IntegratorKind, Shape};
 
 use crate::camera::{to_f32, Bounds, View};
 use crate::demos::Source;
+use crate::gpu::GpuRun;
 use crate::hand::Hand;
 use crate::render::{self, Look};
 use crate::render3d::Renderer3d;
@@ -15,6 +16,7 @@ use crate::sim::{Settings, Sim};
 use crate::ui::Ui;
 use crate::{palette, probe, render2d};
 use sprung_io::demos::DEMOS;
+use sprung_io::Device;
 
 /// Width of the control panel (pixels).
 pub const PANEL_WIDTH: f32 = 300.0;
@@ -27,6 +29,8 @@ const STEP_BUDGET: f64 = 0.010;
 pub struct App {
     /// Where the scene comes from.
     pub source: Source,
+    /// Where the steps run, from the command line (else the scene's).
+    device: Option<Device>,
     /// The running scene, if it loaded.
     pub sim: Option<Sim>,
     /// Why the scene did not load.
@@ -64,9 +68,12 @@ pub struct App {
 }
 
 impl App {
-    /// A viewer on `source`; a scene that does not load is shown as an error.
-    pub fn new(source: Source) -> App {
+    /// A viewer on `source`, its steps where `device` says (else where the
+    /// scene's `device` does); a scene that does not load is shown as an
+    /// error.
+    pub fn new(source: Source, device: Option<Device>) -> App {
         let mut app = App {
+            device,
             source: source.clone(),
             sim: None,
             error: None,
@@ -106,10 +113,20 @@ impl App {
         self.source = source;
         match self.source.load() {
             Ok(scene) => {
-                let sim = match settings {
+                let device = self.device.unwrap_or(scene.device);
+                let mut sim = match settings {
                     Some(settings) => Sim::with_settings(scene, settings),
                     None => Sim::new(scene),
                 };
+                if device == Device::Gpu {
+                    match GpuRun::new() {
+                        Ok(gpu) => sim.gpu = Some(gpu),
+                        Err(message) => {
+                            report(&message);
+                            sim.failure = Some(message);
+                        }
+                    }
+                }
                 let reframe = settings.is_none() || self.sim.is_none();
                 self.flat = render::is_flat(&sim.world);
                 self.bounds = scene_bounds(&sim);

@@ -6,14 +6,16 @@ use std::path::PathBuf;
 /// Usage, printed by `--help` and after a malformed command line.
 pub const USAGE: &str = "\
 usage: sprung-viewer [SCENE.toml] [--demo NAME] [--frames N] [--screenshot FILE]
-                     [--exit-after SECONDS] [--size WxH]
+                     [--exit-after SECONDS] [--size WxH] [--device cpu|gpu]
 
   SCENE.toml          a scene file (default: the demo ball2d; pick others in the window)
   --demo NAME         start on a built-in demo (ball2d, ball3d, flag, ...)
   --frames N          draw N frames, then exit (0, or 1 if the scene could not be loaded)
   --screenshot FILE   with --frames: save the last frame as a PNG
   --exit-after S      exit after S seconds of wall-clock time
-  --size WxH          window size in pixels (default 1280x800)";
+  --size WxH          window size in pixels (default 1280x800)
+  --device cpu|gpu    where the steps run (default: the scene's `device`); on the
+                      GPU while it can run the world (not while a hand holds it)";
 
 /// What the command line asks for.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,6 +32,8 @@ pub struct Options {
     pub exit_after: Option<f64>,
     /// Window size (pixels).
     pub size: (u32, u32),
+    /// Where the steps run, instead of the scene's `device`.
+    pub device: Option<sprung_io::Device>,
     /// Print the usage and exit.
     pub help: bool,
 }
@@ -43,6 +47,7 @@ impl Default for Options {
             screenshot: None,
             exit_after: None,
             size: (1280, 800),
+            device: None,
             help: false,
         }
     }
@@ -67,6 +72,13 @@ pub fn parse(args: impl IntoIterator<Item = String>) -> Result<Options, String> 
                 options.exit_after = Some(seconds);
             }
             "--size" => options.size = size(&value("--size")?)?,
+            "--device" => {
+                let name = value("--device")?;
+                let device = name
+                    .parse()
+                    .map_err(|e| format!("`--device {name}`: {e}"))?;
+                options.device = Some(device);
+            }
             flag if flag.starts_with('-') => return Err(format!("unknown option `{flag}`")),
             path if options.scene.is_none() => options.scene = Some(PathBuf::from(path)),
             extra => {

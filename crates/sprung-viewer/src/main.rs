@@ -10,6 +10,8 @@ mod demos;
 // The getrandom hook is an `extern` function writing through a raw pointer.
 #[allow(unsafe_code)]
 mod entropy;
+#[cfg_attr(target_arch = "wasm32", path = "gpu_web.rs")]
+mod gpu;
 mod hand;
 mod hud;
 mod input;
@@ -101,7 +103,7 @@ fn display_available() -> Result<(), String> {
 /// The frame loop; with `--frames` or `--exit-after`, save the screenshot
 /// and exit (status 1 if the scene could not be loaded).
 async fn run(source: Source, options: Options) {
-    let mut app = App::new(source);
+    let mut app = App::new(source, options.device);
     let failed = app.error.is_some();
     let start = get_time();
     loop {

@@ -6,6 +6,8 @@ use sprung::forces::Wind;
 use sprung::{IntegratorKind, Real, Vec3, World};
 use sprung_io::Scene;
 
+use crate::gpu::GpuRun;
+
 /// Longest frame the simulation catches up on (s): after a stall (a window
 /// drag, a hidden tab) it goes on instead of racing to catch up.
 const MAX_FRAME: Real = 0.1;
@@ -62,6 +64,8 @@ pub struct Sim {
     pub steps_last_frame: u32,
     /// The last frame ran out of its wall-clock budget.
     pub behind: bool,
+    /// The GPU step, with `--device gpu` (or the scene's `device`).
+    pub gpu: Option<GpuRun>,
     base: Base,
     debt: Real,
     simulated: Real,
@@ -94,6 +98,7 @@ impl Sim {
             rate: 1.0,
             steps_last_frame: 0,
             behind: false,
+            gpu: None,
             base,
             debt: 0.0,
             simulated: 0.0,
@@ -126,6 +131,9 @@ impl Sim {
 
     /// Write the settings into the world.
     pub fn apply(&mut self) {
+        if let Some(gpu) = &mut self.gpu {
+            gpu.invalidate();
+        }
         let s = self.settings;
         self.world.set_integrator(s.integrator);
         let factor = self.damping_is_factor();
@@ -220,6 +228,15 @@ impl Sim {
     /// pool; the steps taken, and false (and `failure` set) on a blow-up.
     fn step_batch(&mut self, steps: usize) -> (usize, bool) {
         let (world, dt) = (&mut self.world, self.settings.dt);
+        if let Some(stepped) = self.gpu.as_mut().and_then(|gpu| gpu.step(world, dt, steps)) {
+            return match stepped {
+                Ok(()) => (steps, true),
+                Err(failure) => {
+                    self.failure = Some(failure);
+                    (steps, false)
+                }
+            };
+        }
         let (taken, failure) = sprung::parallel::in_pool(|| {
             for taken in 0..steps {
                 if let Err(e) = world.step(dt) {
@@ -347,5 +364,46 @@ mod tests {
         }
         let failure = sim.failure.clone().unwrap_or_default();
         assert!(failure.contains("blew up"), "{failure}");
+    }
+
+    /// With `--device gpu`, the steps go to the GPU while the world is one
+    /// it can run: a hand (a mouse spring) sends them to the engine, and
+    /// letting go (the particle thrown) back to the GPU, with the world as
+    /// the engine left it (skipped without an adapter unless
+    /// `SPRUNG_GPU_TESTS=require`).
+    #[cfg(not(target_arch = "wasm32"))]
+    #[test]
+    fn a_hand_sends_the_steps_to_the_engine_and_back_to_the_gpu() {
+        use sprung::forces::MouseSpring;
+        let gpu = match GpuRun::new() {
+            Ok(gpu) => gpu,
+            Err(e) if std::env::var("SPRUNG_GPU_TESTS").as_deref() != Ok("require") => {
+                eprintln!("skipped: {e}");
+                return;
+            }
+            Err(e) => panic!("{e}"),
+        };
+        let mut sim = sim("cloth");
+        sim.gpu = Some(gpu);
+        let steps_on_gpu = |sim: &Sim| sim.gpu.as_ref().map_or(0, |g| g.steps);
+        assert_eq!(sim.step_batch(10), (10, true));
+        assert_eq!(steps_on_gpu(&sim), 10);
+        let hand = MouseSpring {
+            particle: 5,
+            target: sim.world.particles.position[5] + Vec3::Y,
+            stiffness: 10.0,
+            damping: 0.1,
+        };
+        sim.world.forces.push(Box::new(hand));
+        assert_eq!(sim.step_batch(10), (10, true));
+        assert_eq!(steps_on_gpu(&sim), 10, "the engine took them");
+        sim.world.forces.remove::<MouseSpring>();
+        sim.world.particles.velocity[5] = Vec3::new(0.0, 3.0, 0.0); // thrown
+        assert_eq!(sim.step_batch(10), (10, true));
+        assert_eq!(steps_on_gpu(&sim), 20);
+        assert_eq!(sim.world.steps(), 30);
+        // The throw went to the GPU with the state: the particle rose.
+        let thrown = sim.world.particles.velocity[5].y;
+        assert!(thrown > 1.0, "{thrown}");
     }
 }

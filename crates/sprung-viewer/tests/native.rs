@@ -99,3 +99,42 @@ fn a_bad_command_line_is_refused_before_any_window() {
     assert_eq!(output.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("--frames many"), "{stderr}");
 }
+
+/// `--device gpu`: the flag steps on the GPU step (Mesa's software Vulkan
+/// driver in the test command) and is drawn as on the engine: the frames'
+/// simulated time is the same, and the picture is not blank (skipped where
+/// this machine has no adapter and `SPRUNG_GPU_TESTS` is not `require`).
+#[test]
+fn steps_on_the_gpu_with_device_gpu() {
+    let xvfb = Xvfb::start();
+    let shot = out_dir("native").join("flag-gpu.png");
+    let _ = std::fs::remove_file(&shot);
+    let output = run_with_limit(
+        viewer(&xvfb)
+            .args([
+                "--demo",
+                "flag",
+                "--device",
+                "gpu",
+                "--frames",
+                "20",
+                "--screenshot",
+            ])
+            .arg(&shot),
+        LIMIT,
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    if stderr.contains("no GPU adapter found")
+        && std::env::var("SPRUNG_GPU_TESTS").as_deref() != Ok("require")
+    {
+        eprintln!("skipped: {stderr}");
+        return;
+    }
+    assert!(output.status.success(), "{:?}\n{stderr}", output.status);
+    assert!(stderr.contains("stepping on the GPU: "), "{stderr}");
+    assert!(!stderr.contains("stepping on the CPU"), "{stderr}");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("20 frames"), "{stdout}");
+    assert!(!stdout.contains("simulated 0.00 s"), "{stdout}");
+    assert_not_blank(&read_png(&shot), &shot);
+}
