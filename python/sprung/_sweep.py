@@ -283,8 +283,26 @@ def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=
             if own:
                 client.close()
     bar.close()
+    _clear_leftovers(runs, tasks)
     write_table(os.path.join(os.fspath(out), "sweep.csv"), keys, points, rows)
     return [flat(keys, point, row) for point, row in zip(points, rows)]
+
+
+def _clear_leftovers(runs: str, tasks) -> None:
+    """Remove the ``<id>.partial-*`` folders that attempts at this sweep's
+    runs left where their worker died mid-run (a killed process cannot
+    remove its own): every run has ended by now, its own folder whole. An
+    attempt still going somewhere finds its folder gone and yields to the
+    finished one, as when another attempt finished first."""
+    ids = {os.path.basename(task["folder"]) for _, task in tasks}
+    try:
+        names = os.listdir(runs)
+    except OSError:
+        return
+    for name in names:
+        stem, partial, _ = name.partition(".partial-")
+        if partial and stem in ids:
+            shutil.rmtree(os.path.join(runs, name), ignore_errors=True)
 
 
 def flat(keys, point, row) -> dict:

@@ -91,6 +91,27 @@ def test_refused_values_are_rows_and_reruns_skip_what_ended(tmp_path, scenes):
     assert {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*/result.json")} == stamps
 
 
+def test_what_a_dead_attempt_left_half_written_is_cleared(tmp_path, scenes):
+    # A worker killed mid-run leaves its temporary folder (with a
+    # result.json, if it died just before the rename): the sweep clears it
+    # once every run has ended, and leaves folders of no run of its own.
+    grid = {"body.ball.gas.nrt": [50]}
+    first = sprung.sweep(scenes / "ball2d.toml", grid=grid, steps=20, out=tmp_path,
+                         progress=False)
+    runs = tmp_path / "runs"
+    dead = runs / f"{first[0]['id']}.partial-k1ll3d"
+    dead.mkdir()
+    (dead / "result.json").write_text("{}")
+    stranger = runs / "not-a-run.partial-x"
+    stranger.mkdir()
+    again = sprung.sweep(scenes / "ball2d.toml", grid=grid, steps=20, out=tmp_path,
+                         progress=False)
+    assert again == first
+    assert not dead.exists()
+    assert stranger.exists()
+    assert sorted(p.parent.name for p in runs.glob("*/result.json")) == [first[0]["id"]]
+
+
 def test_latin_hypercube_is_stratified_and_reproducible():
     from sprung._sweep import latin_hypercube
     points = latin_hypercube({"a": (0.0, 1.0), "b": (10.0, 20.0)}, 8, seed=3)
@@ -177,6 +198,8 @@ def test_a_worker_killed_mid_sweep_costs_only_time(tmp_path, scenes, cluster):
     assert workers[0].poll() is not None  # it was killed
     assert [r["status"] for r in rows] == ["ok"] * 8
     assert len(list((out / "runs").glob("*/result.json"))) == 8
+    # What the killed worker was writing is gone with it: only whole runs.
+    assert not list((out / "runs").glob("*.partial-*"))
     for row in rows:
         assert row["steps"] == 3000
 
