@@ -99,10 +99,10 @@ impl GasLayout {
         (layout.element_first, layout.element_links) = adjacency(world.particles.len(), &corners);
         layout
     }
+}
 
-    /// The nRT (J) of each gas slot at `time` (s), as the engine schedules
-    /// it (`Gas::nrt_at`).
-    pub fn nrt(&self, time: Real) -> impl Iterator<Item = f32> + '_ {
-        self.gas.iter().map(move |g| g.nrt_at(time) as f32)
-    }
+/// The nRT (J) of each gas slot's `gases` at `time` (s), as the engine
+/// schedules it (`Gas::nrt_at`).
+pub fn nrt_at(gases: &[Gas], time: Real) -> impl Iterator<Item = f32> + '_ {
+    gases.iter().map(move |g| g.nrt_at(time) as f32)
 }

@@ -1,9 +1,10 @@
 //! [`GpuWorld`]: a world's explicit step on the GPU, its state kept there
 //! between steps.
 
-use sprung::{IntegratorKind, Real, Substeps, Vec3, World};
+use sprung::forces::Wind;
+use sprung::{Gas, IntegratorKind, Real, Substeps, Vec3, World};
 
-use crate::gas::GasLayout;
+use crate::gas;
 use crate::kernels::{Kernels, STAGE_BYTES};
 use crate::layout::{grid, Layout};
 use crate::wind::WindLayout;
@@ -33,10 +34,10 @@ pub struct GpuWorld {
     /// Workgroups over the particles, and over the gas elements.
     groups: (u32, u32),
     gas_groups: (u32, u32),
-    /// The gas bodies' schedules, and how many.
-    gas: GasLayout,
-    /// The wind's field, for its time-dependent parts.
-    wind: WindLayout,
+    /// The gas bodies' schedules (one a gas slot).
+    gases: Vec<Gas>,
+    /// The wind, for its field's time-dependent parts.
+    wind: Option<Wind>,
     kernels: Kernels,
     /// The stage slots of the submission being encoded.
     stages: Vec<u8>,
@@ -98,8 +99,8 @@ impl GpuWorld {
             count,
             groups: grid(count as u32),
             gas_groups: grid(layout.params.elements),
-            gas: layout.gas,
-            wind: layout.wind,
+            gases: layout.gas.gas,
+            wind: layout.wind.wind,
             kernels: made?,
             stages: Vec::new(),
             first: true,
@@ -167,12 +168,15 @@ impl GpuWorld {
                 let time = self.time + offset * self.h;
                 let start = self.stages.len();
                 self.stages.resize(start + stride, 0);
-                let slot = &mut self.stages[start..start + STAGE_BYTES as usize];
-                let mut values = vec![time as f32, 0.0, 0.0, 0.0];
-                values.extend(self.wind.stage(time));
-                values.extend(self.gas.nrt(time));
+                // The slot: the time, the wind, then each gas's nRT.
+                let mut values = [0f32; STAGE_BYTES as usize / 4];
+                values[0] = time as f32;
+                values[4..16].copy_from_slice(&WindLayout::stage(self.wind.as_ref(), time));
+                for (value, nrt) in values[16..].iter_mut().zip(gas::nrt_at(&self.gases, time)) {
+                    *value = nrt;
+                }
                 let bytes: &[u8] = bytemuck::cast_slice(&values);
-                slot[..bytes.len()].copy_from_slice(bytes);
+                self.stages[start..start + bytes.len()].copy_from_slice(bytes);
             }
             self.time += self.h;
         }
@@ -187,7 +191,7 @@ impl GpuWorld {
             pass.set_pipeline(pipeline);
             pass.dispatch_workgroups(x, y, 1);
         };
-        let gas_bodies = self.gas.bodies.len() as u32;
+        let gas_bodies = self.gases.len() as u32;
         let (stage_group, stride, gas_groups) = (
             &self.kernels.stage_group,
             self.kernels.stride,

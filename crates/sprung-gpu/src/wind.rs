@@ -80,9 +80,9 @@ impl WindLayout {
     /// each mode's phase less its turns so far, `φ - ω t` (rad), taken in
     /// f64 and reduced to one turn so that f32 holds it to its precision
     /// however late the run.
-    pub fn stage(&self, time: Real) -> [f32; 12] {
+    pub fn stage(wind: Option<&Wind>, time: Real) -> [f32; 12] {
         let mut values = [0f32; 12];
-        let Some(wind) = &self.wind else {
+        let Some(wind) = wind else {
             return values;
         };
         let mean = wind.field.gusting_at(time).as_vec3();
