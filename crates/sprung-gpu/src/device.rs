@@ -1,5 +1,6 @@
 //! The GPU: an adapter and a device from wgpu, on the native backends
-//! (Vulkan, Metal, DX12; `WGPU_BACKEND` chooses among them, as wgpu reads it).
+//! (Vulkan, Metal, DX12; `WGPU_BACKEND` chooses among them, as wgpu reads it),
+//! or in a browser its WebGPU.
 
 use std::sync::{Arc, Mutex};
 
@@ -23,13 +24,27 @@ pub struct Gpu {
 impl Gpu {
     /// The first adapter of the native backends, or of those
     /// `WGPU_BACKEND` names (`vulkan`, `metal`, `dx12`).
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn new() -> Result<Gpu, GpuError> {
         Gpu::with_backends(wgpu::Backends::PRIMARY.with_env())
     }
 
     /// The first adapter of `backends` (a discrete GPU first), with a
     /// device allowing its largest storage buffers.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn with_backends(backends: wgpu::Backends) -> Result<Gpu, GpuError> {
+        pollster::block_on(Gpu::request(backends))
+    }
+
+    /// The browser's WebGPU adapter and a device (resolves on the page's
+    /// event loop; a browser without WebGPU gives [`GpuError::NoAdapter`]).
+    #[cfg(target_arch = "wasm32")]
+    pub async fn in_browser() -> Result<Gpu, GpuError> {
+        Gpu::request(wgpu::Backends::BROWSER_WEBGPU).await
+    }
+
+    /// The first adapter of `backends` and a device, awaited.
+    async fn request(backends: wgpu::Backends) -> Result<Gpu, GpuError> {
         let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
         descriptor.backends = backends;
         descriptor.flags = wgpu::InstanceFlags::empty().with_env();
@@ -38,15 +53,15 @@ impl Gpu {
             power_preference: wgpu::PowerPreference::HighPerformance,
             ..Default::default()
         };
-        let adapter = pollster::block_on(instance.request_adapter(&options))
+        let adapter = instance
+            .request_adapter(&options)
+            .await
             .map_err(|e| GpuError::NoAdapter(format!("backends {backends:?}: {e}")))?;
         let info = adapter.get_info();
         let available = adapter.limits();
         let limits = wgpu::Limits {
-            // The kernels bind 15.
-            max_storage_buffers_per_shader_stage: available
-                .max_storage_buffers_per_shader_stage
-                .min(16),
+            // The kernels bind 8, WebGPU's least limit.
+            max_storage_buffers_per_shader_stage: 8,
             max_storage_buffer_binding_size: available.max_storage_buffer_binding_size,
             max_buffer_size: available.max_buffer_size,
             max_compute_workgroups_per_dimension: available.max_compute_workgroups_per_dimension,
@@ -58,12 +73,13 @@ impl Gpu {
             ..Default::default()
         };
         let (device, queue) =
-            pollster::block_on(adapter.request_device(&descriptor)).map_err(|e| {
-                GpuError::NoDevice {
+            adapter
+                .request_device(&descriptor)
+                .await
+                .map_err(|e| GpuError::NoDevice {
                     adapter: info.name.clone(),
                     reason: e.to_string(),
-                }
-            })?;
+                })?;
         let failed = Arc::new(Mutex::new(None));
         let first = Arc::clone(&failed);
         device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| {
@@ -102,6 +118,7 @@ impl Gpu {
 
 /// The adapter the GPU step would run on, named ([`Gpu::name`]), or why
 /// there is none.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn adapter_summary() -> Result<String, GpuError> {
     Gpu::new().map(|gpu| gpu.name())
 }

@@ -2,7 +2,7 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::layout::{Layout, Params};
+use crate::layout::{Layout, Link, Params};
 use crate::{Gpu, GpuError};
 
 /// The kernels of `kernels.wgsl`, each a pipeline.
@@ -43,6 +43,68 @@ pub struct Kernels {
 
 /// Bytes of one stage slot (`Stage` in the kernels).
 pub const STAGE_BYTES: u64 = 256;
+
+/// A storage buffer the kernels write.
+const READ_WRITE: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: false };
+/// A storage buffer the kernels only read.
+const READ: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
+
+/// A word's index, or the number of words when it is past `u32`.
+fn word(index: usize) -> Result<u32, usize> {
+    u32::try_from(index).map_err(|_| index)
+}
+
+/// The springs' adjacency as the kernels read it: particle `i`'s range,
+/// then the (other end, spring) pairs, each range given as positions in
+/// the same array. Errs with the words needed when they are past `u32`.
+fn pack_adjacency(first: &[u32], links: &[Link]) -> Result<Vec<u32>, usize> {
+    let base = first.len();
+    let mut words = Vec::with_capacity(base + 2 * links.len());
+    for &k in first {
+        words.push(word(base + 2 * k as usize)?);
+    }
+    for link in links {
+        words.extend([link.other, link.spring]);
+    }
+    Ok(words)
+}
+
+/// An element table and its ranges, packed after `words`: the elements
+/// (four words each), then particle `i`'s range, then the lists, each as
+/// positions in `words`. Returns where the ranges start.
+fn pack_elements(
+    words: &mut Vec<u32>,
+    elements: &[[u32; 4]],
+    first: &[u32],
+    links: &[u32],
+) -> Result<u32, usize> {
+    let table = words.len();
+    words.extend(elements.iter().flatten());
+    let ranges = words.len();
+    let lists = ranges + first.len();
+    for &k in first {
+        words.push(word(lists + k as usize)?);
+    }
+    for &element in links {
+        words.push(word(table + 4 * element as usize)?);
+    }
+    word(ranges)
+}
+
+/// The gas elements then the wind elements, with their ranges, in one
+/// array (`faces` in the kernels), and where each kind's ranges start.
+fn pack_faces(layout: &Layout) -> Result<(Vec<u32>, (u32, u32)), usize> {
+    let (gas, wind) = (&layout.gas, &layout.wind);
+    let mut words = Vec::new();
+    let gas_at = pack_elements(
+        &mut words,
+        &gas.elements,
+        &gas.element_first,
+        &gas.element_links,
+    )?;
+    let wind_at = pack_elements(&mut words, &wind.elements, &wind.first, &wind.links)?;
+    Ok((words, (gas_at, wind_at)))
+}
 
 fn storage(gpu: &Gpu, label: &str, contents: &[u8], limit: u64) -> Result<wgpu::Buffer, GpuError> {
     let bytes = contents.len() as u64;
@@ -92,28 +154,31 @@ impl Kernels {
         let zeros = |n: usize| vec![[0f32; 4]; n];
         let gas = &layout.gas;
         let parts = gas.elements.len() / crate::gas::PART + gas.bodies.len();
+        let too_large = |words: usize| GpuError::TooLarge {
+            bytes: 4 * words as u64,
+            limit,
+        };
+        let adjacency = pack_adjacency(&layout.first, &layout.links).map_err(too_large)?;
+        let mut params = layout.params;
+        let (faces, at) = pack_faces(layout).map_err(too_large)?;
+        (params.element_first_at, params.wind_first_at) = at;
+        // Binding k + 1 holds buffers[k] (`kernels.wgsl`): eight storage
+        // buffers, WebGPU's least limit.
         let buffers = [
-            ("position", bytes(&layout.position)),
-            ("velocity", bytes(&layout.velocity)),
-            ("force", bytes(&zeros(count))),
-            ("first", bytes(&layout.first)),
-            ("links", bytes(&layout.links)),
-            ("scratch", bytes(&zeros(4 * count))),
-            ("status", bytes(&[0u32, u32::MAX])),
-            ("springs", bytes(&layout.springs)),
-            ("elements", bytes(&gas.elements)),
-            ("element_first", bytes(&gas.element_first)),
-            ("element_links", bytes(&gas.element_links)),
-            ("gas_sums", bytes(&vec![0f32; parts])),
-            ("wind_elements", bytes(&layout.wind.elements)),
-            ("wind_first", bytes(&layout.wind.first)),
-            ("wind_links", bytes(&layout.wind.links)),
+            ("position", bytes(&layout.position), READ_WRITE),
+            ("velocity", bytes(&layout.velocity), READ_WRITE),
+            ("work", bytes(&zeros(5 * count)), READ_WRITE),
+            ("adjacency", bytes(&adjacency), READ),
+            ("springs", bytes(&layout.springs), READ),
+            ("faces", bytes(&faces), READ),
+            ("status", bytes(&[0u32, u32::MAX]), READ_WRITE),
+            ("gas_sums", bytes(&vec![0f32; parts]), READ_WRITE),
         ];
         let mut made = Vec::with_capacity(buffers.len());
-        for (label, contents) in &buffers {
+        for (label, contents, _) in &buffers {
             made.push(storage(gpu, label, contents, limit)?);
         }
-        let params: [Params; 1] = [layout.params];
+        let params: [Params; 1] = [params];
         let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("params"),
             contents: bytemuck::cast_slice(&params),
@@ -132,29 +197,9 @@ impl Kernels {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        use wgpu::BufferBindingType::{Storage, Uniform};
-        let (read_write, read) = (Storage { read_only: false }, Storage { read_only: true });
-        // Binding k + 1 holds buffers[k]; those the kernels only read are
-        // bound read-only.
-        let only_read = [
-            "first",
-            "links",
-            "springs",
-            "elements",
-            "element_first",
-            "element_links",
-            "wind_elements",
-            "wind_first",
-            "wind_links",
-        ];
-        let mut entries = vec![entry(0, Uniform, false)];
-        for (k, (label, _)) in buffers.iter().enumerate() {
-            let ty = if only_read.contains(label) {
-                read
-            } else {
-                read_write
-            };
-            entries.push(entry(k as u32 + 1, ty, false));
+        let mut entries = vec![entry(0, wgpu::BufferBindingType::Uniform, false)];
+        for (k, (_, _, ty)) in buffers.iter().enumerate() {
+            entries.push(entry(k as u32 + 1, *ty, false));
         }
         let state_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sprung state"),
@@ -162,7 +207,7 @@ impl Kernels {
         });
         let stage_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sprung stage"),
-            entries: &[entry(0, Uniform, true)],
+            entries: &[entry(0, wgpu::BufferBindingType::Uniform, true)],
         });
         let bound: Vec<wgpu::BindGroupEntry> = std::iter::once(&uniform)
             .chain(&made)

@@ -30,7 +30,9 @@ struct Params {
     elements: u32,
     gas_bodies: u32,
     parts: u32,
-    pad: u32,
+    // Where particle i's gas elements' range sits in `faces`: at
+    // faces[element_first_at + i].
+    element_first_at: u32,
     // Gravity's acceleration (m/s², xyz) and the air drag's coefficient
     // (N·s/m, w).
     gravity: vec4<f32>,
@@ -38,7 +40,8 @@ struct Params {
     h: f32,
     max_distance_squared: f32,
     max_speed_squared: f32,
-    pad2: f32,
+    // Where particle i's wind elements' range sits in `faces`.
+    wind_first_at: u32,
     collider: array<Collider, 64>,
     // Per gas body, its first partial volume and how many (x, y), and the
     // next body's (z, w).
@@ -62,12 +65,6 @@ struct Stage {
     nrt: array<vec4<f32>, 12>,
 }
 
-// One spring as one of its ends sees it: the other end, and the spring.
-struct Link {
-    other: u32,
-    spring: u32,
-}
-
 // A spring's rest length (m), stiffness (N/m) and damping (N·s/m).
 struct Spring {
     rest: f32,
@@ -76,39 +73,40 @@ struct Spring {
     pad: f32,
 }
 
+// Eight storage buffers, WebGPU's least limit a shader stage: what the
+// kernels read is packed into `adjacency` and `faces`, with each range
+// given as positions in its own array.
 @group(0) @binding(0) var<uniform> params: Params;
 // Positions (m, xyz) with the inverse mass (1/kg, w).
 @group(0) @binding(1) var<storage, read_write> x: array<vec4<f32>>;
 // Velocities (m/s, xyz) with the mass (kg, w).
 @group(0) @binding(2) var<storage, read_write> v: array<vec4<f32>>;
-// Forces (N, xyz).
-@group(0) @binding(3) var<storage, read_write> f: array<vec4<f32>>;
-// Particle i's springs are links[first[i]..first[i + 1]].
-@group(0) @binding(4) var<storage, read> first: array<u32>;
-@group(0) @binding(5) var<storage, read> links: array<Link>;
-@group(0) @binding(8) var<storage, read> springs: array<Spring>;
-// The integrators' own state, four blocks of `count`: RK4's start
-// position, start velocity, velocity sum and acceleration sum; Verlet's
-// previous position in the first.
-@group(0) @binding(6) var<storage, read_write> scratch: array<vec4<f32>>;
-// Per gas element: its particles (a segment's third is 0xffffffff) and
-// its gas body.
-@group(0) @binding(9) var<storage, read> elements: array<vec4<u32>>;
-// Particle i's elements are element_links[element_first[i]..element_first[i + 1]].
-@group(0) @binding(10) var<storage, read> element_first: array<u32>;
-@group(0) @binding(11) var<storage, read> element_links: array<u32>;
-// The partial volumes (m³, or m² in 2D), then each gas body's pressure.
-@group(0) @binding(12) var<storage, read_write> gas_sums: array<f32>;
-// Per wind element: its particles (a segment's third is 0xffffffff) and
-// its body's wind scale (f32 bits); particle i's are
-// wind_links[wind_first[i]..wind_first[i + 1]].
-@group(0) @binding(13) var<storage, read> wind_elements: array<vec4<u32>>;
-@group(0) @binding(14) var<storage, read> wind_first: array<u32>;
-@group(0) @binding(15) var<storage, read> wind_links: array<u32>;
-@group(1) @binding(0) var<uniform> stage: Stage;
+// The forces (N, xyz), `count` of them, then the integrators' own state
+// in four blocks of `count` (RK4's start position, start velocity,
+// velocity sum and acceleration sum; Verlet's last move in the first).
+@group(0) @binding(3) var<storage, read_write> work: array<vec4<f32>>;
+// Particle i's springs are the pairs (other end, spring) at
+// adjacency[adjacency[i]..adjacency[i + 1]].
+@group(0) @binding(4) var<storage, read> adjacency: array<u32>;
+@group(0) @binding(5) var<storage, read> springs: array<Spring>;
+// The gas elements first, four words each: its particles (a segment's
+// third is 0xffffffff) and its gas body. Particle i's are listed at
+// faces[faces[element_first_at + i]..faces[element_first_at + i + 1]],
+// each as the position of its first word. The wind elements follow
+// likewise (the fourth word: its body's wind scale, f32 bits), from
+// wind_first_at.
+@group(0) @binding(6) var<storage, read> faces: array<u32>;
 // [0]: steps taken; [1]: the first step whose state blew up (counted from
 // 1), or 0xffffffff.
 @group(0) @binding(7) var<storage, read_write> status: array<atomic<u32>>;
+// The partial volumes (m³, or m² in 2D), then each gas body's pressure.
+@group(0) @binding(8) var<storage, read_write> gas_sums: array<f32>;
+@group(1) @binding(0) var<uniform> stage: Stage;
+
+// The element whose first word is faces[at].
+fn face(at: u32) -> vec4<u32> {
+    return vec4<u32>(faces[at], faces[at + 1u], faces[at + 2u], faces[at + 3u]);
+}
 
 // Whether a step that blew up has ended (then the state stays as it left
 // it, for the engine's guard to read; the step itself runs to its end).
@@ -176,25 +174,26 @@ fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
     let xi = x[i].xyz;
     let vi = v[i].xyz;
     var force = v[i].w * params.gravity.xyz;
-    for (var e = first[i]; e < first[i + 1u]; e++) {
-        let link = links[e];
-        let spring = springs[link.spring];
-        let d = xi - x[link.other].xyz;
+    for (var e = adjacency[i]; e < adjacency[i + 1u]; e += 2u) {
+        let other = adjacency[e];
+        let spring = springs[adjacency[e + 1u]];
+        let d = xi - x[other].xyz;
         let length = length(d);
         if length > 0.0 {
             let t = d / length;
             let s = spring.stiffness * (length - spring.rest)
-                + spring.damping * dot(vi - v[link.other].xyz, t);
+                + spring.damping * dot(vi - v[other].xyz, t);
             force -= s * t;
         }
     }
-    for (var e = element_first[i]; e < element_first[i + 1u]; e++) {
-        force += gas_push(elements[element_links[e]]);
+    let gas = params.element_first_at + i;
+    for (var e = faces[gas]; e < faces[gas + 1u]; e++) {
+        force += gas_push(face(faces[e]));
     }
     force += wind_force(i, xi, vi);
     force += penalty(xi, vi);
     force -= params.gravity.w * vi;
-    f[i] = vec4<f32>(force, 0.0);
+    work[i] = vec4<f32>(force, 0.0);
 }
 
 const SEGMENT: u32 = 0xffffffffu;
@@ -269,8 +268,9 @@ fn wind_force(i: u32, p: vec3<f32>, u: vec3<f32>) -> vec3<f32> {
     }
     var normals = vec3<f32>(0.0);
     var scale = 1.0;
-    for (var e = wind_first[i]; e < wind_first[i + 1u]; e++) {
-        let element = wind_elements[wind_links[e]];
+    let wind = params.wind_first_at + i;
+    for (var e = faces[wind]; e < faces[wind + 1u]; e++) {
+        let element = face(faces[e]);
         scale = bitcast<f32>(element.w);
         if model == 1u {
             normals += normalize_or_zero(area_normal(element));
@@ -323,7 +323,7 @@ fn volume_parts(
     let e = id.x + id.y * params.gas_row * 64u;
     var share = 0.0;
     if e < params.elements && !stopped() {
-        share = volume_of(elements[e]);
+        share = volume_of(face(4u * e));
     }
     part[lane] = share;
     workgroupBarrier();
@@ -421,7 +421,7 @@ fn symplectic(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let h = params.h;
-    var u = v[i].xyz + f[i].xyz * x[i].w * h;
+    var u = v[i].xyz + work[i].xyz * x[i].w * h;
     var p = x[i].xyz + u * h;
     collide_and_guard(i, &p, &u);
     x[i] = vec4<f32>(p, x[i].w);
@@ -439,8 +439,8 @@ fn verlet_start(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let h = params.h;
-    let a = f[i].xyz * x[i].w;
-    scratch[i] = vec4<f32>(v[i].xyz * h - 0.5 * a * h * h, 0.0);
+    let a = work[i].xyz * x[i].w;
+    work[params.count + i] = vec4<f32>(v[i].xyz * h - 0.5 * a * h * h, 0.0);
 }
 
 // Position Verlet with central velocities (integrate::verlet): the next
@@ -454,8 +454,8 @@ fn verlet(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let h = params.h;
-    let a = f[i].xyz * x[i].w;
-    let last = scratch[i].xyz;
+    let a = work[i].xyz * x[i].w;
+    let last = work[params.count + i].xyz;
     var step_move = last + a * (h * h);
     let next = x[i].xyz + step_move;
     let written = (last + step_move) / (2.0 * h) + a * h;
@@ -465,7 +465,7 @@ fn verlet(@builtin(global_invocation_id) id: vec3<u32>) {
     // The engine's previous position moves by (p - next) - (u - written) h,
     // so the move from it to p changes by (u - written) h.
     step_move += (u - written) * h;
-    scratch[i] = vec4<f32>(step_move, 0.0);
+    work[params.count + i] = vec4<f32>(step_move, 0.0);
     x[i] = vec4<f32>(p, x[i].w);
     v[i] = vec4<f32>(u, v[i].w);
 }
@@ -478,10 +478,10 @@ fn rk4_begin(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= n {
         return;
     }
-    scratch[i] = x[i];
-    scratch[n + i] = v[i];
-    scratch[2u * n + i] = vec4<f32>(0.0);
-    scratch[3u * n + i] = vec4<f32>(0.0);
+    work[params.count + i] = x[i];
+    work[params.count + n + i] = v[i];
+    work[params.count + 2u * n + i] = vec4<f32>(0.0);
+    work[params.count + 3u * n + i] = vec4<f32>(0.0);
 }
 
 // One stage of RK4 with its weight in the sums and the offset of the next
@@ -490,11 +490,11 @@ fn rk4_stage(i: u32, weight: f32, next_offset: f32) {
     let n = params.count;
     let h = params.h;
     let stage_velocity = v[i].xyz;
-    let stage_acceleration = f[i].xyz * x[i].w;
-    scratch[2u * n + i] += vec4<f32>(weight * stage_velocity, 0.0);
-    scratch[3u * n + i] += vec4<f32>(weight * stage_acceleration, 0.0);
-    x[i] = vec4<f32>(scratch[i].xyz + next_offset * h * stage_velocity, x[i].w);
-    v[i] = vec4<f32>(scratch[n + i].xyz + next_offset * h * stage_acceleration, v[i].w);
+    let stage_acceleration = work[i].xyz * x[i].w;
+    work[params.count + 2u * n + i] += vec4<f32>(weight * stage_velocity, 0.0);
+    work[params.count + 3u * n + i] += vec4<f32>(weight * stage_acceleration, 0.0);
+    x[i] = vec4<f32>(work[params.count + i].xyz + next_offset * h * stage_velocity, x[i].w);
+    v[i] = vec4<f32>(work[params.count + n + i].xyz + next_offset * h * stage_acceleration, v[i].w);
 }
 
 @compute @workgroup_size(64)
@@ -530,10 +530,10 @@ fn rk4_end(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let sixth = params.h / 6.0;
-    let sum_v = scratch[2u * n + i].xyz + v[i].xyz;
-    let sum_a = scratch[3u * n + i].xyz + f[i].xyz * x[i].w;
-    var p = scratch[i].xyz + sixth * sum_v;
-    var u = scratch[n + i].xyz + sixth * sum_a;
+    let sum_v = work[params.count + 2u * n + i].xyz + v[i].xyz;
+    let sum_a = work[params.count + 3u * n + i].xyz + work[i].xyz * x[i].w;
+    var p = work[params.count + i].xyz + sixth * sum_v;
+    var u = work[params.count + n + i].xyz + sixth * sum_a;
     collide_and_guard(i, &p, &u);
     x[i] = vec4<f32>(p, x[i].w);
     v[i] = vec4<f32>(u, v[i].w);

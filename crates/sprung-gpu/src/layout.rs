@@ -69,8 +69,9 @@ pub struct Params {
     pub gas_bodies: u32,
     /// Partial volumes (the pressures follow them).
     pub parts: u32,
-    /// Padding.
-    pub pad: u32,
+    /// Where the gas elements' ranges start in the packed `faces` buffer
+    /// (set when the buffers are made).
+    pub element_first_at: u32,
     /// Gravity's acceleration (m/s², xyz) and the air drag coefficient
     /// (N·s/m, w).
     pub gravity: [f32; 4],
@@ -80,8 +81,9 @@ pub struct Params {
     pub max_distance_squared: f32,
     /// The blow-up speed squared (m²/s²).
     pub max_speed_squared: f32,
-    /// Padding.
-    pub pad2: f32,
+    /// Where the wind elements' ranges start in the packed `faces` buffer
+    /// (set when the buffers are made).
+    pub wind_first_at: u32,
     /// The colliders, in the world's order.
     pub collider: [GpuCollider; MAX_COLLIDERS],
     /// Per gas body, its first partial volume and how many; two bodies a
@@ -251,12 +253,12 @@ impl Layout {
             elements,
             gas_bodies: gas.bodies.len() as u32,
             parts: elements / PART as u32,
-            pad: 0,
+            element_first_at: 0,
             gravity: gravity.extend(drag as f32).into(),
             h: h as f32,
             max_distance_squared: narrow(world.settings.max_distance.powi(2)),
             max_speed_squared: narrow(world.settings.max_speed.powi(2)),
-            pad2: 0.0,
+            wind_first_at: 0,
             collider,
             gas: spans,
             wind_kind: wind.kind,

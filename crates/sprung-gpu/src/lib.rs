@@ -33,7 +33,9 @@ mod step;
 pub mod support;
 pub mod wind;
 
-pub use device::{adapter_summary, Gpu};
+#[cfg(not(target_arch = "wasm32"))]
+pub use device::adapter_summary;
+pub use device::Gpu;
 pub use layout::{grid, GpuCollider, Layout, Link, Params, Spring};
 pub use step::GpuWorld;
 

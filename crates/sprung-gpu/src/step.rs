@@ -4,6 +4,8 @@
 use sprung::forces::Wind;
 use sprung::{Gas, IntegratorKind, Real, Substeps, Vec3, World};
 
+use std::sync::{Arc, Mutex};
+
 use crate::gas;
 use crate::kernels::{Kernels, STAGE_BYTES};
 use crate::layout::{grid, Layout};
@@ -43,14 +45,24 @@ pub struct GpuWorld {
     stages: Vec<u8>,
     /// Verlet's first step (its bootstrap) is still to come.
     first: bool,
-    /// Steps run since the last [`GpuWorld::read_into`].
+    /// Steps run since the last read-back was asked for.
     pending: u64,
+    /// The read-back asked for and not yet taken.
+    reading: Option<Reading>,
     /// Steps read back so far.
     read: u64,
     /// The world's step count when it was put on the GPU.
     start_step: u64,
     /// The world's stable time step then (s), for a blow-up's message.
     stable_dt: Real,
+}
+
+/// A read-back on its way: whether (and how) the mapping ended, and the
+/// steps it covers.
+#[derive(Debug)]
+struct Reading {
+    mapped: Arc<Mutex<Option<Result<(), String>>>>,
+    steps: u64,
 }
 
 /// The times of one substep's force evaluations, as fractions of it.
@@ -63,6 +75,7 @@ fn evaluations(kind: IntegratorKind) -> &'static [Real] {
 
 impl GpuWorld {
     /// `world` on a new [`Gpu`], to be stepped by `dt` (s).
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn new(world: &World, dt: Real) -> Result<GpuWorld, GpuError> {
         GpuWorld::on(Gpu::new()?, world, dt)
     }
@@ -82,12 +95,19 @@ impl GpuWorld {
         let h = dt / Real::from(substeps);
         let layout = Layout::of(world, h);
         let per_step = evaluations(world.integrator()).len() as u64 * u64::from(substeps);
+        // In a browser nothing can be waited for: an error there reaches
+        // the device's handler, and the first read-back reports it.
+        #[cfg(not(target_arch = "wasm32"))]
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        #[cfg(not(target_arch = "wasm32"))]
         let memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let made = Kernels::new(&gpu, &layout, SLOTS.max(per_step));
-        let errors = [memory.pop(), scope.pop()].map(pollster::block_on);
-        if let Some(error) = errors.into_iter().flatten().next() {
-            return Err(GpuError::Device(error.to_string()));
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let errors = [memory.pop(), scope.pop()].map(pollster::block_on);
+            if let Some(error) = errors.into_iter().flatten().next() {
+                return Err(GpuError::Device(error.to_string()));
+            }
         }
         let count = world.particles.len();
         Ok(GpuWorld {
@@ -105,6 +125,7 @@ impl GpuWorld {
             stages: Vec::new(),
             first: true,
             pending: 0,
+            reading: None,
             read: 0,
             start_step: world.steps(),
             stable_dt: world.stable_time_step(),
@@ -117,14 +138,14 @@ impl GpuWorld {
         &self.gpu
     }
 
-    /// Steps run and not yet read back.
+    /// Steps run and not yet read back (nor asked for).
     pub fn pending(&self) -> u64 {
         self.pending
     }
 
     /// Run `steps` steps of the world's `dt` on the GPU (queued: they are
-    /// done by the time [`GpuWorld::read_into`] or [`GpuWorld::wait`]
-    /// returns).
+    /// done by the time a read-back of them arrives, or
+    /// [`GpuWorld::wait`] returns).
     pub fn step(&mut self, steps: u64) {
         let per_step = evaluations(self.kind).len() as u64 * u64::from(self.substeps);
         let most = (self.kernels.slots / per_step).clamp(1, STEPS_PER_SUBMIT);
@@ -240,15 +261,22 @@ impl GpuWorld {
 
     /// Wait until the steps run so far are done, reading nothing back (a
     /// bench's clock).
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn wait(&self) -> Result<(), GpuError> {
-        self.gpu
-            .device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Device(e.to_string()))?;
+        self.poll()?;
         match self.gpu.failure() {
             Some(failure) => Err(GpuError::Device(failure)),
             None => Ok(()),
         }
+    }
+
+    #[cfg(not(target_arch = "wasm32"))]
+    fn poll(&self) -> Result<(), GpuError> {
+        self.gpu
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| GpuError::Device(e.to_string()))
     }
 
     /// Wait for the steps run so far, then write the positions and
@@ -259,9 +287,20 @@ impl GpuWorld {
     /// particle and why ([`GpuError::Step`] holding
     /// [`StepError::BlowUp`](sprung::StepError::BlowUp)), as a step on
     /// the CPU would. Nothing more can be stepped then.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn read_into(&mut self, world: &mut World) -> Result<(), GpuError> {
-        if let Some(failure) = self.gpu.failure() {
-            return Err(GpuError::Device(failure));
+        self.request_read();
+        self.poll()?;
+        self.finish_read(world)
+    }
+
+    /// Ask for the state after the steps run so far, without waiting (in a
+    /// browser, where nothing may block): [`GpuWorld::read_ready`] says
+    /// when [`GpuWorld::finish_read`] can take it. Steps may be run
+    /// meanwhile; a second ask before the first is taken does nothing.
+    pub fn request_read(&mut self) {
+        if self.reading.is_some() {
+            return;
         }
         let n = self.count as u64;
         let b = &self.kernels;
@@ -273,19 +312,49 @@ impl GpuWorld {
         encoder.copy_buffer_to_buffer(&b.velocity, 0, &b.readback, 16 * n, 16 * n);
         encoder.copy_buffer_to_buffer(&b.status, 0, &b.readback, 32 * n, 8);
         self.gpu.queue.submit([encoder.finish()]);
-        let slice = b.readback.slice(..32 * n + 8);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |result| {
-            let _ = sender.send(result);
+        let mapped = Arc::new(Mutex::new(None));
+        let done = Arc::clone(&mapped);
+        b.readback
+            .slice(..32 * n + 8)
+            .map_async(wgpu::MapMode::Read, move |result| {
+                if let Ok(mut slot) = done.lock() {
+                    *slot = Some(result.map_err(|e| e.to_string()));
+                }
+            });
+        self.reading = Some(Reading {
+            mapped,
+            steps: self.pending,
         });
-        self.gpu
-            .device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Device(e.to_string()))?;
-        receiver
-            .recv()
-            .map_err(|e| GpuError::Device(e.to_string()))?
-            .map_err(|e| GpuError::Device(e.to_string()))?;
+        self.pending = 0;
+    }
+
+    /// Whether the read-back asked for has arrived (or failed).
+    pub fn read_ready(&self) -> bool {
+        self.reading
+            .as_ref()
+            .is_some_and(|reading| reading.mapped.lock().map_or(true, |slot| slot.is_some()))
+    }
+
+    /// Take the read-back asked for into `world`, as
+    /// [`GpuWorld::read_into`] does; an error if none was asked for or it
+    /// has not arrived.
+    pub fn finish_read(&mut self, world: &mut World) -> Result<(), GpuError> {
+        if let Some(failure) = self.gpu.failure() {
+            return Err(GpuError::Device(failure));
+        }
+        if !self.read_ready() {
+            return Err(GpuError::Device("the read-back has not arrived".into()));
+        }
+        let Some(reading) = self.reading.take() else {
+            return Err(GpuError::Device("no read-back was asked for".into()));
+        };
+        let mapped = reading.mapped.lock().ok().and_then(|mut slot| slot.take());
+        if let Some(Err(error)) = mapped {
+            return Err(GpuError::Device(error));
+        }
+        let n = self.count as u64;
+        let b = &self.kernels;
+        let slice = b.readback.slice(..32 * n + 8);
         let read = slice
             .get_mapped_range()
             .map_err(|e| GpuError::Device(e.to_string()))
@@ -304,11 +373,11 @@ impl GpuWorld {
             });
         b.readback.unmap();
         let (taken, blew_up) = read?;
-        // Steps taken since the last read: all those run, or up to the
-        // one that blew up.
+        // Steps taken up to the read: all those run before it, or up to
+        // the one that blew up.
+        debug_assert!(u64::from(taken) - self.read <= reading.steps);
         let steps = u64::from(taken) - self.read;
         self.read = u64::from(taken);
-        self.pending = 0;
         world.took_steps(self.dt, steps)?;
         if blew_up != u32::MAX {
             // Past a limit in f32, within it in f64.

@@ -309,3 +309,38 @@ fn two_runs_on_the_gpu_give_the_same_bits() {
         }
     }
 }
+
+/// A read-back asked for without waiting (as in a browser) holds the
+/// state after the steps run before it, not those run after: the same
+/// bits as a run read back there, its clock at those steps; the steps
+/// run meanwhile arrive with the next read.
+#[test]
+fn a_read_asked_for_holds_the_steps_before_it() {
+    let Some(gpu) = common::gpu() else { return };
+    let (dt, before, after) = (2e-4, 300, 200);
+    let kind = IntegratorKind::Verlet;
+    let read_there = on_gpu(&gpu, hung(kind), dt, before);
+    let mut world = hung(kind);
+    let mut step = GpuWorld::on(gpu.clone(), &world, dt).unwrap();
+    step.step(before);
+    step.request_read();
+    assert_eq!(step.pending(), 0);
+    step.step(after);
+    assert_eq!(step.pending(), after);
+    step.wait().unwrap();
+    assert!(step.read_ready());
+    step.finish_read(&mut world).unwrap();
+    assert!(!step.read_ready());
+    assert_eq!(world.steps(), before);
+    assert_eq!(world.time(), read_there.time());
+    assert_eq!(world.particles.position, read_there.particles.position);
+    assert_eq!(world.particles.velocity, read_there.particles.velocity);
+    step.read_into(&mut world).unwrap();
+    assert_eq!(world.steps(), before + after);
+    assert_eq!(
+        world.particles.position,
+        on_gpu(&gpu, hung(kind), dt, before + after)
+            .particles
+            .position
+    );
+}
