@@ -20,7 +20,9 @@
 #     and Mesa's software Vulkan driver (mesa-vulkan-drivers, with the
 #     loader libvulkan1) that runs the GPU step's tests on the CPU
 #     (SPRUNG_GPU_TESTS=require: they fail, not skip, without it);
-#   - the Rust target wasm32-unknown-unknown (rustup);
+#   - the Rust target wasm32-unknown-unknown (rustup) and wasm-bindgen-cli
+#     at the version of Cargo.lock's wasm-bindgen (cargo install, from
+#     crates.io: scripts/build-web.sh installs both);
 #   - Playwright (`npm ci` in crates/sprung-viewer/web-tests, from its
 #     package-lock.json; it drives the Debian Chromium, it downloads no
 #     browser);

@@ -190,6 +190,11 @@ impl App {
         if let Some(index) = probe::lock().request.take() {
             self.open(Source::Demo(index), None);
         }
+        let device = probe::lock().device_request.take();
+        if let Some(device) = device {
+            self.device = Some(device);
+            self.reset();
+        }
         let upload = probe::lock().scene_request.take();
         if let Some((upload, reload)) = upload {
             let settings = reload
@@ -294,6 +299,13 @@ impl App {
                 probe.message = format!("{failure}\n{BLOW_UP_HINT}");
             }
             probe.time = sim.world.time();
+            probe.gpu_steps = sim.gpu.as_ref().map_or(0.0, |gpu| gpu.steps as f64);
+            if let Some(notice) = sim.gpu.as_ref().and_then(|gpu| gpu.notice.as_ref()) {
+                if !probe.message.is_empty() {
+                    probe.message.push('\n');
+                }
+                probe.message.push_str(notice);
+            }
             for &p in &sim.world.particles.position {
                 probe.positions.push(p.to_array());
                 let screen = self.view.project(to_f32(p), viewport);

@@ -45,6 +45,14 @@ pub fn draw(app: &App, viewport: Rect) {
         ),
         palette::TEXT,
     );
+    if let Some(gpu) = &sim.gpu {
+        let (device, colour) = if gpu.stepping {
+            ("GPU", palette::TEXT)
+        } else {
+            ("CPU (not the GPU)", palette::PINNED)
+        };
+        row("steps on", device.into(), colour);
+    }
     let e = world.energies();
     for (name, value) in std::iter::once(("kinetic", e.kinetic)).chain(e.terms()) {
         if value != 0.0 {

@@ -10,7 +10,6 @@ mod demos;
 // The getrandom hook is an `extern` function writing through a raw pointer.
 #[allow(unsafe_code)]
 mod entropy;
-#[cfg_attr(target_arch = "wasm32", path = "gpu_web.rs")]
 mod gpu;
 mod hand;
 mod hud;

@@ -15,6 +15,7 @@
 use std::sync::{Mutex, MutexGuard};
 
 use sprung_io::demos::DEMOS;
+use sprung_io::Device;
 
 use crate::demos::Upload;
 
@@ -46,6 +47,11 @@ pub struct Probe {
     pub scene_request: Option<(Upload, bool)>,
     /// The error on the screen, as text (empty when there is none).
     pub message: String,
+    /// Where the page asked the steps to run (`?device=`), taken by the
+    /// next frame.
+    pub device_request: Option<Device>,
+    /// Steps taken on the GPU and read back since the scene opened.
+    pub gpu_steps: f64,
 }
 
 /// The page's staging buffer, and the files staged for the next scene.
@@ -78,6 +84,8 @@ static PROBE: Mutex<Probe> = Mutex::new(Probe {
     request: None,
     scene_request: None,
     message: String::new(),
+    device_request: None,
+    gpu_steps: 0.0,
 });
 
 /// The shared probe (a poisoned lock is still readable: the data is plain).
@@ -187,6 +195,26 @@ pub extern "C" fn sprung_select_demo(i: u32) -> i32 {
     } else {
         0
     }
+}
+
+/// Run the steps on the GPU (`gpu` 1: the browser's WebGPU) or the
+/// engine (0) from the next frame, the scene shown started again; 1 if
+/// `gpu` is 0 or 1.
+#[no_mangle]
+pub extern "C" fn sprung_set_device(gpu: u32) -> i32 {
+    let device = match gpu {
+        0 => Device::Cpu,
+        1 => Device::Gpu,
+        _ => return 0,
+    };
+    lock().device_request = Some(device);
+    1
+}
+
+/// Steps the GPU has taken and read back since the scene opened.
+#[no_mangle]
+pub extern "C" fn sprung_gpu_steps() -> f64 {
+    lock().gpu_steps
 }
 
 /// Room for `len` bytes in the staging buffer: its address in the module's

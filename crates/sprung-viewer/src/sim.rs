@@ -184,7 +184,10 @@ impl Sim {
         // the rest of the budget allows at the last batch's pace: the budget
         // is overrun by about a step, as when the steps were taken one by
         // one, unless the steps get dearer within the frame.
-        let mut batch = 1;
+        // In a browser the GPU takes a frame's steps at once and they land
+        // at the next frame.
+        let at_once = self.gpu.as_ref().is_some_and(GpuRun::takes_a_frame);
+        let mut batch = if at_once { usize::MAX } else { 1 };
         while self.debt >= dt {
             let owed = (self.debt / dt) as usize;
             let before = clock();
@@ -195,6 +198,13 @@ impl Sim {
             }
             self.steps_last_frame += u32::try_from(taken).unwrap_or(u32::MAX);
             if !ok {
+                break;
+            }
+            if taken == 0 {
+                // The GPU's last steps have not landed: this frame's time
+                // is dropped (slow motion) rather than owed.
+                self.behind = true;
+                self.debt = self.debt.min(wanted);
                 break;
             }
             let now = clock();
@@ -230,7 +240,7 @@ impl Sim {
         let (world, dt) = (&mut self.world, self.settings.dt);
         if let Some(stepped) = self.gpu.as_mut().and_then(|gpu| gpu.step(world, dt, steps)) {
             return match stepped {
-                Ok(()) => (steps, true),
+                Ok(taken) => (taken, true),
                 Err(failure) => {
                     self.failure = Some(failure);
                     (steps, false)

@@ -43,7 +43,12 @@ fn newest(dir: &Path) -> SystemTime {
 fn page() -> PathBuf {
     let web = target_dir().join("web");
     let wasm = web.join("sprung-viewer.wasm");
-    for file in ["index.html", "gl.js", "sprung-viewer.wasm"] {
+    for file in [
+        "index.html",
+        "gl.js",
+        "sprung-viewer.js",
+        "sprung-viewer.wasm",
+    ] {
         if !web.join(file).is_file() {
             missing(&format!(
                 "the web page is not built ({} is missing; scripts/build-web.sh builds it)",
@@ -56,6 +61,8 @@ fn page() -> PathBuf {
         .unwrap_or(SystemTime::UNIX_EPOCH);
     let sources = [
         "crates/sprung-viewer/src",
+        "crates/sprung-viewer/web",
+        "crates/sprung-gpu/src",
         "crates/sprung/src",
         "crates/sprung-io/src",
         "scenes",
@@ -159,5 +166,37 @@ fn dragging_a_particle_in_headless_chromium_moves_it_to_the_cursor() {
     let shot = out_dir("web").join("ball2d.png");
     let _ = std::fs::remove_file(&shot);
     run_script("drag.mjs", &[&shot]);
+    assert_not_blank(&read_png(&shot), &shot);
+}
+
+/// An 8² cloth, 0.7 m square, falling freely from rest on the GPU:
+/// symplectic Euler, no drag, nothing to touch.
+const FALL: &str = r#"[sim]
+dt = 1e-3
+integrator = "symplectic_euler"
+gravity = [0.0, -9.81, 0.0]
+duration = 100.0
+device = "gpu"
+
+[[body]]
+name = "cloth"
+cloth = { nx = 8, ny = 8, width = 0.7, height = 0.7 }
+total_mass = 0.2
+stiffness = 100.0
+damping = 0.01
+translate = [0.0, 1.0, 0.0]
+"#;
+
+/// The web viewer on the browser's WebGPU (`gpu.mjs`): a falling cloth
+/// where free fall puts it, the flag demo by `?device=gpu`, and the engine
+/// with a word where the browser has no WebGPU.
+#[test]
+fn the_web_viewer_steps_on_the_browsers_webgpu() {
+    let scenes = out_dir("web-gpu");
+    std::fs::create_dir_all(&scenes).expect("scenes folder");
+    std::fs::write(scenes.join("fall.toml"), FALL).expect("scene");
+    let shot = scenes.join("flag.png");
+    let _ = std::fs::remove_file(&shot);
+    run_script("gpu.mjs", &[&scenes, &shot]);
     assert_not_blank(&read_png(&shot), &shot);
 }

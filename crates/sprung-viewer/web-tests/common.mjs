@@ -44,21 +44,23 @@ export function serve(root, mounts = {}) {
 /** The built page in `webDir`, checked. */
 export function checkBuilt(webDir) {
   const root = path.resolve(webDir);
-  for (const file of ["index.html", "gl.js", "sprung-viewer.wasm"]) {
+  for (const file of ["index.html", "gl.js", "sprung-viewer.js", "sprung-viewer.wasm"]) {
     if (!fs.existsSync(path.join(root, file))) fail(`${root}/${file} is missing: run scripts/build-web.sh`);
   }
   return root;
 }
 
-/** Headless Chromium ($CHROMIUM, else Debian's), with software WebGL. */
-export function launch() {
+/** Headless Chromium ($CHROMIUM, else Debian's), with software WebGL;
+ *  `extra` switches after the usual ones (`--enable-unsafe-webgpu`: its
+ *  WebGPU, on SwiftShader where there is no GPU). */
+export function launch(extra = []) {
   return chromium.launch({
     executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
     headless: true,
     args: [
       "--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
       "--disable-background-networking", "--disable-component-update", "--disable-sync",
-      "--disable-quic", "--no-first-run",
+      "--disable-quic", "--no-first-run", ...extra,
     ],
   });
 }
@@ -84,4 +86,29 @@ export async function waitForFrames(page, frames, problems) {
 /** Call an export of the wasm module. */
 export function call(page, name, ...args) {
   return page.evaluate(([name, args]) => wasm_exports[name](...args), [name, args]);
+}
+
+/** Distinct colours and the share of pixels unlike the top-right corner's, in the page. */
+export function pixelStats(page, png) {
+  return page.evaluate(async (base64) => {
+    const image = new Image();
+    image.src = "data:image/png;base64," + base64;
+    await image.decode();
+    const canvas = document.createElement("canvas");
+    canvas.width = image.width;
+    canvas.height = image.height;
+    const context = canvas.getContext("2d");
+    context.drawImage(image, 0, 0);
+    const data = context.getImageData(0, 0, canvas.width, canvas.height).data;
+    const corner = 4 * (canvas.width - 1);
+    const colours = new Set();
+    let differing = 0;
+    for (let i = 0; i < data.length; i += 4) {
+      colours.add((data[i] >> 3) << 10 | (data[i + 1] >> 3) << 5 | data[i + 2] >> 3);
+      const d = Math.abs(data[i] - data[corner]) + Math.abs(data[i + 1] - data[corner + 1])
+        + Math.abs(data[i + 2] - data[corner + 2]);
+      if (d > 24) differing++;
+    }
+    return { colours: colours.size, differing: differing / (data.length / 4) };
+  }, png.toString("base64"));
 }

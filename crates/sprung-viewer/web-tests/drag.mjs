@@ -9,7 +9,7 @@
 // Prints one line of JSON with what it measured; exits 1 on a failure.
 
 import fs from "node:fs";
-import { call, checkBuilt, fail, launch, newPage, serve, waitForFrames } from "./common.mjs";
+import { call, checkBuilt, fail, launch, newPage, pixelStats, serve, waitForFrames } from "./common.mjs";
 
 const [webDir, shotPath] = process.argv.slice(2);
 if (!webDir) {
@@ -30,31 +30,6 @@ async function cursor(page) {
 }
 
 const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
-
-/** Distinct colours and the share of pixels unlike the top-right corner's, in the page. */
-function pixelStats(page, png) {
-  return page.evaluate(async (base64) => {
-    const image = new Image();
-    image.src = "data:image/png;base64," + base64;
-    await image.decode();
-    const canvas = document.createElement("canvas");
-    canvas.width = image.width;
-    canvas.height = image.height;
-    const context = canvas.getContext("2d");
-    context.drawImage(image, 0, 0);
-    const data = context.getImageData(0, 0, canvas.width, canvas.height).data;
-    const corner = 4 * (canvas.width - 1);
-    const colours = new Set();
-    let differing = 0;
-    for (let i = 0; i < data.length; i += 4) {
-      colours.add((data[i] >> 3) << 10 | (data[i + 1] >> 3) << 5 | data[i + 2] >> 3);
-      const d = Math.abs(data[i] - data[corner]) + Math.abs(data[i + 1] - data[corner + 1])
-        + Math.abs(data[i + 2] - data[corner + 2]);
-      if (d > 24) differing++;
-    }
-    return { colours: colours.size, differing: differing / (data.length / 4) };
-  }, png.toString("base64"));
-}
 
 async function main() {
   const root = checkBuilt(webDir);
