@@ -146,8 +146,9 @@ pub struct RunOptions {
     /// written are the same bytes as a run that never stopped.
     #[arg(long, value_name = "FILE")]
     resume: Option<PathBuf>,
-    /// Where the steps run: cpu (the engine) or gpu (the GPU step, for the
-    /// scenes it can run: docs/gpu.md), instead of the scene's `device`.
+    /// Where the steps run: cpu (the engine), gpu (the GPU step in f32,
+    /// for the scenes it can run: docs/gpu.md) or gpu_f64 (in f64, on
+    /// adapters that have it), instead of the scene's `device`.
     #[arg(long)]
     device: Option<Device>,
 }

@@ -4,7 +4,7 @@
 use std::time::Instant;
 
 use sprung::World;
-use sprung_gpu::{GpuError, GpuWorld};
+use sprung_gpu::{Gpu, GpuError, GpuWorld, Precision};
 use sprung_io::{Device, Scene};
 
 use crate::run::CliError;
@@ -32,12 +32,13 @@ pub struct OnGpu {
 /// `None` for the CPU. Refused, before anything is written, where the GPU
 /// step lacks what the scene or the options ask.
 pub fn start(scene: &Scene, options: &RunOptions) -> Result<Option<OnGpu>, CliError> {
-    if options.device.unwrap_or(scene.device) == Device::Cpu {
+    let device = options.device.unwrap_or(scene.device);
+    if !device.is_gpu() {
         return Ok(None);
     }
     let refuse = |what: &str| {
         Err(CliError::Input(format!(
-            "--device gpu: {what} (run it with --device cpu)"
+            "--device {device}: {what} (run it with --device cpu)"
         )))
     };
     if options.resume.is_some() || options.save_state.is_some() {
@@ -46,9 +47,10 @@ pub fn start(scene: &Scene, options: &RunOptions) -> Result<Option<OnGpu>, CliEr
     if options.profile {
         return refuse("--profile times the engine's stages, which the GPU step does not run");
     }
-    let gpu = GpuWorld::new(&scene.world, scene.dt).map_err(|e| failed(&e))?;
+    let gpu = put_on_gpu(&scene.world, scene.dt, device).map_err(|e| failed(&e))?;
     if !options.quiet {
-        eprintln!("note: stepping on the GPU: {}", gpu.gpu().name());
+        let (name, precision) = (gpu.gpu().name(), gpu.precision());
+        eprintln!("note: stepping on the GPU in {precision}: {name}");
     }
     Ok(Some(OnGpu {
         gpu,
@@ -59,6 +61,20 @@ pub fn start(scene: &Scene, options: &RunOptions) -> Result<Option<OnGpu>, CliEr
 /// A GPU error that is not a blow-up of the run, in words.
 pub fn failed(error: &GpuError) -> CliError {
     CliError::Input(format!("--device gpu: {error}"))
+}
+
+/// The precision `device` asks for (f64 for `gpu_f64`).
+pub fn precision(device: Device) -> Precision {
+    match device {
+        Device::GpuF64 => Precision::F64,
+        _ => Precision::F32,
+    }
+}
+
+/// `world` on a new GPU, to be stepped by `dt` (s) in the precision
+/// `device` asks for.
+pub fn put_on_gpu(world: &World, dt: f64, device: Device) -> Result<GpuWorld, GpuError> {
+    GpuWorld::in_precision(Gpu::new()?, world, dt, precision(device))
 }
 
 impl OnGpu {

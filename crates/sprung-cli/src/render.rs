@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use sprung::{IntegratorKind, Real, Vec3};
-use sprung_gpu::{GpuError, GpuWorld};
+use sprung_gpu::GpuError;
 use sprung_io::{load_scene_overridden, Device, Override, SceneCamera};
 use sprung_view::render::{
     read_run, record, record_by, render_to_dir, steps_between_pictures, RenderError,
@@ -78,8 +78,8 @@ pub struct RenderArgs {
     /// Override a scene's integrator.
     #[arg(long)]
     integrator: Option<IntegratorKind>,
-    /// Where a scene's steps run: cpu or gpu (docs/gpu.md), instead of its
-    /// `device`.
+    /// Where a scene's steps run: cpu, gpu or gpu_f64 (docs/gpu.md),
+    /// instead of its `device`.
     #[arg(long)]
     device: Option<Device>,
     /// Set a key of a scene: `sim.dt=1e-4`, `body.NAME.stiffness=200`,
@@ -243,11 +243,13 @@ fn run_scene(
     }
     let recording = match args.device.unwrap_or(scene.device) {
         Device::Cpu => record(&mut scene.world, scene.dt, steps, every),
-        Device::Gpu => {
-            let gpu_error = |e: &GpuError| CliError::Input(format!("--device gpu: {e}"));
-            let mut gpu = GpuWorld::new(&scene.world, scene.dt).map_err(|e| gpu_error(&e))?;
+        device @ (Device::Gpu | Device::GpuF64) => {
+            let gpu_error = |e: &GpuError| CliError::Input(format!("--device {device}: {e}"));
+            let mut gpu = crate::on_gpu::put_on_gpu(&scene.world, scene.dt, device)
+                .map_err(|e| gpu_error(&e))?;
             if !args.quiet {
-                eprintln!("note: stepping on the GPU: {}", gpu.gpu().name());
+                let (name, precision) = (gpu.gpu().name(), gpu.precision());
+                eprintln!("note: stepping on the GPU in {precision}: {name}");
             }
             record_by(&mut scene.world, steps, every, |world, count| {
                 gpu.step(count);

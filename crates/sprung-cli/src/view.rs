@@ -35,8 +35,9 @@ pub struct ViewArgs {
     /// Window size in pixels, WIDTHxHEIGHT (default 1280x800).
     #[arg(long, value_name = "WxH")]
     size: Option<String>,
-    /// Where the steps run: cpu or gpu (the GPU step while it can run the
-    /// world; docs/gpu.md), instead of the scene's `device`.
+    /// Where the steps run: cpu, gpu or gpu_f64 (the GPU step in f32 or
+    /// f64 while it can run the world; docs/gpu.md), instead of the
+    /// scene's `device`.
     #[arg(long)]
     device: Option<sprung_io::Device>,
 }

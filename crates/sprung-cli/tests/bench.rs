@@ -181,55 +181,58 @@ fn goals_stand_beside_the_figures_before_them_and_their_targets() {
 /// has no adapter and `SPRUNG_GPU_TESTS` is not `require`).
 #[test]
 fn the_gpu_bench_times_each_cloth_on_the_gpu_and_the_engine() {
-    let dir = tempfile::tempdir().expect("temp dir");
-    let csv = dir.path().join("gpu.csv");
-    let out = sprung(
-        &[
-            "bench",
-            "--device",
-            "gpu",
-            "--quick",
-            "--csv",
-            csv.to_str().unwrap(),
-        ],
-        dir.path(),
-    );
-    let stderr = text(&out.stderr);
-    if stderr.contains("no GPU adapter found")
-        && std::env::var("SPRUNG_GPU_TESTS").as_deref() != Ok("require")
-    {
-        eprintln!("skipped: {stderr}");
-        return;
-    }
-    assert!(out.status.success(), "{stderr}");
-    assert!(text(&out.stdout).contains("GPU: "));
-    let table = Table::read(&csv);
-    let names: Vec<(&str, &str)> = table
-        .rows
-        .iter()
-        .map(|r| (r[0].as_str(), r[table.column("integrator")].as_str()))
-        .collect();
-    assert_eq!(
-        names,
-        [
-            ("cloth 8²", "symplectic_euler"),
-            ("cloth 16²", "symplectic_euler"),
-            ("cloth 16²", "rk4")
-        ]
-    );
-    for (row, particles) in table.rows.iter().zip([64.0, 256.0, 256.0]) {
-        let number = |name: &str| row[table.column(name)].parse::<f64>().unwrap();
-        assert_eq!(number("particles"), particles);
-        for rate in [
-            "gpu_spring_updates_per_second",
-            "cpu_spring_updates_per_second",
-        ] {
-            assert!(
-                number(rate) > 0.0 && number(rate).is_finite(),
-                "{rate}: {row:?}"
-            );
+    for (device, precision) in [("gpu", "f32"), ("gpu_f64", "f64")] {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let csv = dir.path().join("gpu.csv");
+        let out = sprung(
+            &[
+                "bench",
+                "--device",
+                device,
+                "--quick",
+                "--csv",
+                csv.to_str().unwrap(),
+            ],
+            dir.path(),
+        );
+        let stderr = text(&out.stderr);
+        if (stderr.contains("no GPU adapter found") || stderr.contains("has no SHADER_F64"))
+            && std::env::var("SPRUNG_GPU_TESTS").as_deref() != Ok("require")
+        {
+            eprintln!("skipped: {stderr}");
+            continue;
         }
-        assert!(!row[table.column("gpu")].is_empty());
+        assert!(out.status.success(), "{device}: {stderr}");
+        assert!(text(&out.stdout).contains(&format!(", in {precision}")));
+        let table = Table::read(&csv);
+        let names: Vec<(&str, &str)> = table
+            .rows
+            .iter()
+            .map(|r| (r[0].as_str(), r[table.column("integrator")].as_str()))
+            .collect();
+        assert_eq!(
+            names,
+            [
+                ("cloth 8²", "symplectic_euler"),
+                ("cloth 16²", "symplectic_euler"),
+                ("cloth 16²", "rk4")
+            ]
+        );
+        for (row, particles) in table.rows.iter().zip([64.0, 256.0, 256.0]) {
+            let number = |name: &str| row[table.column(name)].parse::<f64>().unwrap();
+            assert_eq!(number("particles"), particles);
+            for rate in [
+                "gpu_spring_updates_per_second",
+                "cpu_spring_updates_per_second",
+            ] {
+                assert!(
+                    number(rate) > 0.0 && number(rate).is_finite(),
+                    "{rate}: {row:?}"
+                );
+            }
+            assert!(!row[table.column("gpu")].is_empty());
+            assert_eq!(row[table.column("precision")], precision);
+        }
     }
 }
 

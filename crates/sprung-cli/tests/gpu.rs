@@ -42,7 +42,8 @@ fn no_gpu(stderr: &str) -> bool {
 /// The scene's `device = "gpu"` runs it on the GPU; `--device cpu` on the
 /// engine: the same rows at the same times, the probed particle within
 /// 10⁻⁵ m (1000 steps of f32 round-off at 1 m, 6·10⁻⁸ m each, add up as
-/// a random walk to about 2·10⁻⁶ m; the particle falls 0.2 m).
+/// a random walk to about 2·10⁻⁶ m; the particle falls 0.2 m);
+/// `--device gpu_f64` within 10⁻¹⁰ m.
 #[test]
 fn a_scene_runs_on_the_gpu_as_on_the_engine() {
     let dir = tempfile::tempdir().unwrap();
@@ -58,7 +59,10 @@ fn a_scene_runs_on_the_gpu_as_on_the_engine() {
         return;
     }
     assert!(gpu.status.success(), "{stderr}");
-    assert!(stderr.contains("note: stepping on the GPU: "), "{stderr}");
+    assert!(
+        stderr.contains("note: stepping on the GPU in f32: "),
+        "{stderr}"
+    );
     let args = ["run", scene, "--out", "cpu", "--device", "cpu"];
     let cpu = sprung(&[&args[..], &probe].concat(), dir.path());
     assert!(cpu.status.success(), "{}", text(&cpu.stderr));
@@ -79,6 +83,22 @@ fn a_scene_runs_on_the_gpu_as_on_the_engine() {
     }
     let fall = on_cpu[0][y] - on_cpu[10][y];
     assert!(fall > 0.1, "the corner fell {fall} m");
+    // In f64 the GPU step is the engine to f64's round-off, 2²⁹ times
+    // finer: 10⁻¹⁰ m (as crates/sprung-gpu/tests/against_cpu.rs argues).
+    let args = ["run", scene, "--out", "f64", "--device", "gpu_f64"];
+    let f64_run = sprung(&[&args[..], &probe].concat(), dir.path());
+    let stderr = text(&f64_run.stderr);
+    assert!(f64_run.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("note: stepping on the GPU in f64: "),
+        "{stderr}"
+    );
+    let (_, in_f64) = csv(&dir.path().join("f64/diagnostics.csv"));
+    assert_eq!(in_f64.len(), on_cpu.len());
+    for (g, c) in in_f64.iter().zip(&on_cpu) {
+        assert_eq!(g[time], c[time]);
+        assert!((g[y] - c[y]).abs() < 1e-10, "y {} against {}", g[y], c[y]);
+    }
 }
 
 /// A scene the GPU step cannot run is refused before anything is
@@ -124,7 +144,7 @@ fn an_unknown_device_is_named_with_its_line() {
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("tpu.toml:5"), "{stderr}");
     assert!(
-        stderr.contains("unknown device \"tpu\" (expected \"cpu\" or \"gpu\")"),
+        stderr.contains("unknown device \"tpu\" (expected \"cpu\", \"gpu\" or \"gpu_f64\")"),
         "{stderr}"
     );
     let out = sprung(
@@ -172,7 +192,10 @@ fn render_draws_a_scene_stepped_on_the_gpu() {
         return;
     }
     assert!(gpu.status.success(), "{stderr}");
-    assert!(stderr.contains("note: stepping on the GPU: "), "{stderr}");
+    assert!(
+        stderr.contains("note: stepping on the GPU in f32: "),
+        "{stderr}"
+    );
     let cpu = sprung(
         &[&args[..], &["--out", "cpu", "--device", "cpu"]].concat(),
         dir.path(),

@@ -67,8 +67,11 @@ impl Gpu {
             max_compute_workgroups_per_dimension: available.max_compute_workgroups_per_dimension,
             ..wgpu::Limits::downlevel_defaults()
         };
+        // f64 where the adapter has it (the kernels in f32 do not use it).
+        let features = adapter.features() & wgpu::Features::SHADER_F64;
         let descriptor = wgpu::DeviceDescriptor {
             label: Some("sprung"),
+            required_features: features,
             required_limits: limits,
             ..Default::default()
         };
@@ -93,6 +96,11 @@ impl Gpu {
             info,
             failed,
         })
+    }
+
+    /// Whether the device runs the kernels in f64 (wgpu's `SHADER_F64`).
+    pub fn has_f64(&self) -> bool {
+        self.device.features().contains(wgpu::Features::SHADER_F64)
     }
 
     /// The first error the device raised since it was made, if any.

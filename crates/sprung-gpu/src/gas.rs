@@ -103,6 +103,6 @@ impl GasLayout {
 
 /// The nRT (J) of each gas slot's `gases` at `time` (s), as the engine
 /// schedules it (`Gas::nrt_at`).
-pub fn nrt_at(gases: &[Gas], time: Real) -> impl Iterator<Item = f32> + '_ {
-    gases.iter().map(move |g| g.nrt_at(time) as f32)
+pub fn nrt_at(gases: &[Gas], time: Real) -> impl Iterator<Item = Real> + '_ {
+    gases.iter().map(move |g| g.nrt_at(time))
 }

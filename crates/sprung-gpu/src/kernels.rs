@@ -2,7 +2,8 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::layout::{Layout, Link, Params};
+use crate::layout::{Layout, Link};
+use crate::precision::Precision;
 use crate::{Gpu, GpuError};
 
 /// The kernels of `kernels.wgsl`, each a pipeline.
@@ -33,6 +34,8 @@ pub struct Kernels {
     /// What changes from one force evaluation to the next (time, nRT):
     /// one slot of `stride` bytes an evaluation, `slots` of them.
     pub stage: wgpu::Buffer,
+    /// The kernels' floating-point type.
+    pub precision: Precision,
     pub stride: u64,
     pub slots: u64,
     /// Group 0: every buffer; group 1: the stage, at a dynamic offset.
@@ -41,8 +44,9 @@ pub struct Kernels {
     pub pipelines: Pipelines,
 }
 
-/// Bytes of one stage slot (`Stage` in the kernels).
-pub const STAGE_BYTES: u64 = 256;
+/// Values in one stage slot (`Stage` in the kernels: sixteen vectors of
+/// four).
+pub const STAGE_VALUES: usize = 64;
 
 /// A storage buffer the kernels write.
 const READ_WRITE: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: false };
@@ -102,7 +106,15 @@ fn pack_faces(layout: &Layout) -> Result<(Vec<u32>, (u32, u32)), usize> {
         &gas.element_first,
         &gas.element_links,
     )?;
-    let wind_at = pack_elements(&mut words, &wind.elements, &wind.first, &wind.links)?;
+    // A wind element's fourth word: where its body's scale is in the
+    // constants, after the springs.
+    let springs = word(layout.springs.len())?;
+    let elements: Vec<[u32; 4]> = wind
+        .elements
+        .iter()
+        .map(|&[a, b, c, body]| [a, b, c, springs + body])
+        .collect();
+    let wind_at = pack_elements(&mut words, &elements, &wind.first, &wind.links)?;
     Ok((words, (gas_at, wind_at)))
 }
 
@@ -145,13 +157,22 @@ fn entry(binding: u32, ty: wgpu::BufferBindingType, dynamic: bool) -> wgpu::Bind
 }
 
 impl Kernels {
-    /// `layout` on `gpu`, with room for `slots` force evaluations' stages
-    /// a submission.
-    pub fn new(gpu: &Gpu, layout: &Layout, slots: u64) -> Result<Kernels, GpuError> {
+    /// `layout` on `gpu` in `precision`, with room for `slots` force
+    /// evaluations' stages a submission.
+    pub fn new(
+        gpu: &Gpu,
+        layout: &Layout,
+        slots: u64,
+        precision: Precision,
+    ) -> Result<Kernels, GpuError> {
         let device = &gpu.device;
         let limit = gpu.max_binding();
         let count = layout.position.len().max(1);
-        let zeros = |n: usize| vec![[0f32; 4]; n];
+        // A binding may not be empty.
+        let reals = |values: &[[f64; 4]]| match values {
+            [] => precision.bytes(&[0.0; 4]),
+            _ => precision.bytes(values.as_flattened()),
+        };
         let gas = &layout.gas;
         let parts = gas.elements.len() / crate::gas::PART + gas.bodies.len();
         let too_large = |words: usize| GpuError::TooLarge {
@@ -159,32 +180,40 @@ impl Kernels {
             limit,
         };
         let adjacency = pack_adjacency(&layout.first, &layout.links).map_err(too_large)?;
+        // The springs' constants, then the bodies' wind scales.
+        let springs = layout.springs.iter();
+        let scales = layout.wind.scales.iter();
+        let constants: Vec<[f64; 4]> = springs
+            .map(|s| [s.rest, s.stiffness, s.damping, 0.0])
+            .chain(scales.map(|&scale| [scale, 0.0, 0.0, 0.0]))
+            .collect();
         let mut params = layout.params;
         let (faces, at) = pack_faces(layout).map_err(too_large)?;
         (params.element_first_at, params.wind_first_at) = at;
         // Binding k + 1 holds buffers[k] (`kernels.wgsl`): eight storage
         // buffers, WebGPU's least limit.
         let buffers = [
-            ("position", bytes(&layout.position), READ_WRITE),
-            ("velocity", bytes(&layout.velocity), READ_WRITE),
-            ("work", bytes(&zeros(5 * count)), READ_WRITE),
+            ("position", reals(&layout.position), READ_WRITE),
+            ("velocity", reals(&layout.velocity), READ_WRITE),
+            ("forces", reals(&vec![[0.0; 4]; count + parts]), READ_WRITE),
             ("adjacency", bytes(&adjacency), READ),
-            ("springs", bytes(&layout.springs), READ),
+            ("constants", reals(&constants), READ),
             ("faces", bytes(&faces), READ),
             ("status", bytes(&[0u32, u32::MAX]), READ_WRITE),
-            ("gas_sums", bytes(&vec![0f32; parts]), READ_WRITE),
+            ("scratch", reals(&vec![[0.0; 4]; 4 * count]), READ_WRITE),
         ];
         let mut made = Vec::with_capacity(buffers.len());
         for (label, contents, _) in &buffers {
             made.push(storage(gpu, label, contents, limit)?);
         }
-        let params: [Params; 1] = [params];
         let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("params"),
-            contents: bytemuck::cast_slice(&params),
+            contents: &params.bytes(precision),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let stride = STAGE_BYTES.max(device.limits().min_uniform_buffer_offset_alignment.into());
+        let stage_bytes = (STAGE_VALUES * precision.size()) as u64;
+        let stride = stage_bytes
+            .next_multiple_of(device.limits().min_uniform_buffer_offset_alignment.into());
         let stage = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("stage"),
             size: stride * slots,
@@ -193,7 +222,7 @@ impl Kernels {
         });
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
-            size: 32 * count as u64 + 8,
+            size: 8 * precision.size() as u64 * count as u64 + 8,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -230,7 +259,7 @@ impl Kernels {
                 resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
                     buffer: &stage,
                     offset: 0,
-                    size: wgpu::BufferSize::new(STAGE_BYTES),
+                    size: wgpu::BufferSize::new(stage_bytes),
                 }),
             }],
         });
@@ -241,7 +270,9 @@ impl Kernels {
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("kernels.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("kernels.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(
+                format!("{}\n{}", precision.prelude(), include_str!("kernels.wgsl")).into(),
+            ),
         });
         let kernel = |name: &str| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -279,6 +310,7 @@ impl Kernels {
             status,
             readback,
             stage,
+            precision,
             stride,
             slots,
             state_group,

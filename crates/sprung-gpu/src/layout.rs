@@ -7,6 +7,7 @@ use sprung::forces::{AirDrag, Gravity};
 use sprung::{ContactResponse, Shape, World};
 
 use crate::gas::{GasLayout, MAX_GAS_BODIES, PART};
+use crate::precision::Precision;
 use crate::support::MAX_COLLIDERS;
 use crate::wind::{WindLayout, MAX_MODES};
 
@@ -22,38 +23,34 @@ pub struct Link {
     pub spring: u32,
 }
 
-/// A spring's constants (`Spring` in the kernels).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+/// A spring's constants (`Spring` in the kernels, in their precision).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Spring {
     /// Rest length (m).
-    pub rest: f32,
+    pub rest: f64,
     /// Stiffness (N/m).
-    pub stiffness: f32,
+    pub stiffness: f64,
     /// Damping along the spring (N·s/m).
-    pub damping: f32,
-    /// Padding.
-    pub pad: f32,
+    pub damping: f64,
 }
 
 /// A collider as the kernels read it (`Collider` in the kernels).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct GpuCollider {
     /// Plane: a point on it (m); sphere: the centre (m) and radius (m, w).
-    pub point: [f32; 4],
+    pub point: [f64; 4],
     /// Plane: the unit outward normal.
-    pub normal: [f32; 4],
+    pub normal: [f64; 4],
     /// Projection: restitution, friction; penalty: stiffness (N/m),
     /// damping (N·s/m), friction.
-    pub coefficients: [f32; 4],
+    pub coefficients: [f64; 4],
     /// Shape (0 plane, 1 sphere) and response (0 projection, 1 penalty).
     pub kind: [u32; 4],
 }
 
-/// The kernels' uniform block (`Params` in the kernels).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+/// The kernels' uniform block (`Params` in the kernels), its values in
+/// f64 until [`Params::bytes`] writes them in the kernels' precision.
+#[derive(Debug, Clone, Copy)]
 pub struct Params {
     /// Particles.
     pub count: u32,
@@ -72,18 +69,18 @@ pub struct Params {
     /// Where the gas elements' ranges start in the packed `faces` buffer
     /// (set when the buffers are made).
     pub element_first_at: u32,
-    /// Gravity's acceleration (m/s², xyz) and the air drag coefficient
-    /// (N·s/m, w).
-    pub gravity: [f32; 4],
-    /// The (sub)step (s).
-    pub h: f32,
-    /// The blow-up distance squared (m²).
-    pub max_distance_squared: f32,
-    /// The blow-up speed squared (m²/s²).
-    pub max_speed_squared: f32,
     /// Where the wind elements' ranges start in the packed `faces` buffer
     /// (set when the buffers are made).
     pub wind_first_at: u32,
+    /// Gravity's acceleration (m/s², xyz) and the air drag coefficient
+    /// (N·s/m, w).
+    pub gravity: [f64; 4],
+    /// The (sub)step (s).
+    pub h: f64,
+    /// The blow-up distance squared (m²).
+    pub max_distance_squared: f64,
+    /// The blow-up speed squared (m²/s²).
+    pub max_speed_squared: f64,
     /// The colliders, in the world's order.
     pub collider: [GpuCollider; MAX_COLLIDERS],
     /// Per gas body, its first partial volume and how many; two bodies a
@@ -92,18 +89,61 @@ pub struct Params {
     /// The wind's model and modes in use ([`WindLayout::kind`]).
     pub wind_kind: [u32; 4],
     /// Its coefficients ([`WindLayout::coefficients`]).
-    pub wind: [f32; 4],
+    pub wind: [f64; 4],
     /// Its modes ([`WindLayout::modes`]).
-    pub modes: [[f32; 4]; 2 * MAX_MODES],
+    pub modes: [[f64; 4]; 2 * MAX_MODES],
+}
+
+impl Params {
+    /// The block's bytes with its real numbers in `precision`: the
+    /// unsigned words first (a multiple of 32 bytes), then the vectors of
+    /// reals, so that f32 and f64 lay out alike (`Params` in the kernels).
+    pub fn bytes(&self, precision: Precision) -> Vec<u8> {
+        let mut words: Vec<u32> = vec![
+            self.count,
+            self.colliders,
+            self.row,
+            self.gas_row,
+            self.elements,
+            self.gas_bodies,
+            self.parts,
+            self.element_first_at,
+            self.wind_first_at,
+            0,
+            0,
+            0,
+        ];
+        words.extend(self.wind_kind);
+        words.extend(self.gas.iter().flatten());
+        words.extend(self.collider.iter().flat_map(|c| c.kind));
+        words.resize(words.len().next_multiple_of(8), 0);
+        let mut bytes: Vec<u8> = bytemuck::cast_slice(&words).to_vec();
+        let limits = [
+            self.h,
+            self.max_distance_squared,
+            self.max_speed_squared,
+            0.0,
+        ];
+        let mut reals = Vec::new();
+        reals.extend(self.gravity);
+        reals.extend(limits);
+        reals.extend(self.wind);
+        reals.extend(self.modes.iter().flatten());
+        reals.extend(self.collider.iter().flat_map(|c| c.point));
+        reals.extend(self.collider.iter().flat_map(|c| c.normal));
+        reals.extend(self.collider.iter().flat_map(|c| c.coefficients));
+        precision.extend(&mut bytes, &reals);
+        bytes
+    }
 }
 
 /// A world as the kernels read it.
 #[derive(Debug, Clone)]
 pub struct Layout {
     /// Positions (m) with the inverse mass (1/kg) as w.
-    pub position: Vec<[f32; 4]>,
+    pub position: Vec<[f64; 4]>,
     /// Velocities (m/s) with the mass (kg) as w.
-    pub velocity: Vec<[f32; 4]>,
+    pub velocity: Vec<[f64; 4]>,
     /// Particle `i`'s springs are `links[first[i]..first[i + 1]]`.
     pub first: Vec<u32>,
     /// Every spring once for each end it pushes (twice, or once for a
@@ -147,11 +187,6 @@ pub fn grid(count: u32) -> (u32, u32) {
     (row, groups.div_ceil(row))
 }
 
-/// Saturate an f64 into an f32 (a limit of 1e300 m stays a limit).
-fn narrow(value: f64) -> f32 {
-    value.clamp(-(f32::MAX as f64), f32::MAX as f64) as f32
-}
-
 impl Layout {
     /// `world`'s state and springs for (sub)steps of `h` (s). The world is
     /// one [`crate::support::check`] accepts.
@@ -160,14 +195,14 @@ impl Layout {
         let n = particles.len();
         let position = (0..n)
             .map(|i| {
-                let p = particles.position[i].as_vec3();
-                [p.x, p.y, p.z, particles.inverse_mass[i] as f32]
+                let p = particles.position[i];
+                [p.x, p.y, p.z, particles.inverse_mass[i]]
             })
             .collect();
         let velocity = (0..n)
             .map(|i| {
-                let u = particles.velocity[i].as_vec3();
-                [u.x, u.y, u.z, particles.mass[i] as f32]
+                let u = particles.velocity[i];
+                [u.x, u.y, u.z, particles.mass[i]]
             })
             .collect();
         let springs = &world.springs;
@@ -197,26 +232,25 @@ impl Layout {
         }
         let (first, links) = adjacency(n, &ends);
         let constants = (0..springs.len()).map(|s| Spring {
-            rest: springs.rest_length[s] as f32,
-            stiffness: springs.stiffness[s] as f32,
-            damping: springs.damping[s] as f32,
-            pad: 0.0,
+            rest: springs.rest_length[s],
+            stiffness: springs.stiffness[s],
+            damping: springs.damping[s],
         });
         let gravity = world
             .forces
             .get::<Gravity>()
-            .map_or(glam::Vec3::ZERO, |g| g.acceleration.as_vec3());
+            .map_or(sprung::Vec3::ZERO, |g| g.acceleration);
         let drag = world.forces.get::<AirDrag>().map_or(0.0, |d| d.coefficient);
         let mut collider = [GpuCollider::default(); MAX_COLLIDERS];
         for (slot, c) in collider.iter_mut().zip(&world.colliders) {
             *slot = match c.shape {
                 Shape::Plane { point, normal } => GpuCollider {
-                    point: point.as_vec3().extend(0.0).into(),
-                    normal: normal.as_vec3().extend(0.0).into(),
+                    point: point.extend(0.0).into(),
+                    normal: normal.extend(0.0).into(),
                     ..GpuCollider::default()
                 },
                 Shape::Sphere { centre, radius } => GpuCollider {
-                    point: centre.as_vec3().extend(radius as f32).into(),
+                    point: centre.extend(radius).into(),
                     kind: [1, 0, 0, 0],
                     ..GpuCollider::default()
                 },
@@ -225,13 +259,13 @@ impl Layout {
                 ContactResponse::Projection {
                     restitution,
                     friction,
-                } => slot.coefficients = [restitution as f32, friction as f32, 0.0, 0.0],
+                } => slot.coefficients = [restitution, friction, 0.0, 0.0],
                 ContactResponse::Penalty {
                     stiffness,
                     damping,
                     friction,
                 } => {
-                    slot.coefficients = [stiffness as f32, damping as f32, friction as f32, 0.0];
+                    slot.coefficients = [stiffness, damping, friction, 0.0];
                     slot.kind[1] = 1;
                 }
             }
@@ -254,11 +288,11 @@ impl Layout {
             gas_bodies: gas.bodies.len() as u32,
             parts: elements / PART as u32,
             element_first_at: 0,
-            gravity: gravity.extend(drag as f32).into(),
-            h: h as f32,
-            max_distance_squared: narrow(world.settings.max_distance.powi(2)),
-            max_speed_squared: narrow(world.settings.max_speed.powi(2)),
             wind_first_at: 0,
+            gravity: gravity.extend(drag).into(),
+            h,
+            max_distance_squared: world.settings.max_distance.powi(2),
+            max_speed_squared: world.settings.max_speed.powi(2),
             collider,
             gas: spans,
             wind_kind: wind.kind,

@@ -29,6 +29,7 @@ mod device;
 pub mod gas;
 mod kernels;
 mod layout;
+mod precision;
 mod step;
 pub mod support;
 pub mod wind;
@@ -37,6 +38,7 @@ pub mod wind;
 pub use device::adapter_summary;
 pub use device::Gpu;
 pub use layout::{grid, GpuCollider, Layout, Link, Params, Spring};
+pub use precision::Precision;
 pub use step::GpuWorld;
 
 /// What can go wrong on the GPU path.

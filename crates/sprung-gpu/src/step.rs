@@ -7,8 +7,9 @@ use sprung::{Gas, IntegratorKind, Real, Substeps, Vec3, World};
 use std::sync::{Arc, Mutex};
 
 use crate::gas;
-use crate::kernels::{Kernels, STAGE_BYTES};
+use crate::kernels::{Kernels, STAGE_VALUES};
 use crate::layout::{grid, Layout};
+use crate::precision::Precision;
 use crate::wind::WindLayout;
 use crate::{support, Gpu, GpuError};
 
@@ -80,11 +81,28 @@ impl GpuWorld {
         GpuWorld::on(Gpu::new()?, world, dt)
     }
 
-    /// `world` on `gpu`, to be stepped by `dt` (s): refused if the GPU
-    /// step lacks something it uses ([`support::check`]) or `dt` is not a
-    /// positive, finite step.
+    /// `world` on `gpu` in f32, to be stepped by `dt` (s): refused if the
+    /// GPU step lacks something it uses ([`support::check`]) or `dt` is
+    /// not a positive, finite step.
     pub fn on(gpu: Gpu, world: &World, dt: Real) -> Result<GpuWorld, GpuError> {
+        GpuWorld::in_precision(gpu, world, dt, Precision::F32)
+    }
+
+    /// `world` on `gpu` in `precision`, as [`GpuWorld::on`]; f64 is
+    /// refused where the adapter lacks it ([`Gpu::has_f64`]).
+    pub fn in_precision(
+        gpu: Gpu,
+        world: &World,
+        dt: Real,
+        precision: Precision,
+    ) -> Result<GpuWorld, GpuError> {
         support::check(world)?;
+        if precision == Precision::F64 && !gpu.has_f64() {
+            return Err(GpuError::Unsupported(format!(
+                "f64 on the adapter {} (it has no SHADER_F64): use --device gpu for f32",
+                gpu.name()
+            )));
+        }
         if !(dt.is_finite() && dt > 0.0) {
             return Err(sprung::StepError::InvalidTimeStep { dt }.into());
         }
@@ -101,7 +119,7 @@ impl GpuWorld {
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         #[cfg(not(target_arch = "wasm32"))]
         let memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let made = Kernels::new(&gpu, &layout, SLOTS.max(per_step));
+        let made = Kernels::new(&gpu, &layout, SLOTS.max(per_step), precision);
         #[cfg(not(target_arch = "wasm32"))]
         {
             let errors = [memory.pop(), scope.pop()].map(pollster::block_on);
@@ -190,14 +208,14 @@ impl GpuWorld {
                 let start = self.stages.len();
                 self.stages.resize(start + stride, 0);
                 // The slot: the time, the wind, then each gas's nRT.
-                let mut values = [0f32; STAGE_BYTES as usize / 4];
-                values[0] = time as f32;
+                let mut values = [0.0; STAGE_VALUES];
+                values[0] = time;
                 values[4..16].copy_from_slice(&WindLayout::stage(self.wind.as_ref(), time));
                 for (value, nrt) in values[16..].iter_mut().zip(gas::nrt_at(&self.gases, time)) {
                     *value = nrt;
                 }
-                let bytes: &[u8] = bytemuck::cast_slice(&values);
-                self.stages[start..start + bytes.len()].copy_from_slice(bytes);
+                let bytes = self.kernels.precision.bytes(&values);
+                self.stages[start..start + bytes.len()].copy_from_slice(&bytes);
             }
             self.time += self.h;
         }
@@ -302,20 +320,20 @@ impl GpuWorld {
         if self.reading.is_some() {
             return;
         }
-        let n = self.count as u64;
         let b = &self.kernels;
+        let state = self.state_bytes();
         let mut encoder = self
             .gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        encoder.copy_buffer_to_buffer(&b.position, 0, &b.readback, 0, 16 * n);
-        encoder.copy_buffer_to_buffer(&b.velocity, 0, &b.readback, 16 * n, 16 * n);
-        encoder.copy_buffer_to_buffer(&b.status, 0, &b.readback, 32 * n, 8);
+        encoder.copy_buffer_to_buffer(&b.position, 0, &b.readback, 0, state);
+        encoder.copy_buffer_to_buffer(&b.velocity, 0, &b.readback, state, state);
+        encoder.copy_buffer_to_buffer(&b.status, 0, &b.readback, 2 * state, 8);
         self.gpu.queue.submit([encoder.finish()]);
         let mapped = Arc::new(Mutex::new(None));
         let done = Arc::clone(&mapped);
         b.readback
-            .slice(..32 * n + 8)
+            .slice(..2 * state + 8)
             .map_async(wgpu::MapMode::Read, move |result| {
                 if let Ok(mut slot) = done.lock() {
                     *slot = Some(result.map_err(|e| e.to_string()));
@@ -326,6 +344,16 @@ impl GpuWorld {
             steps: self.pending,
         });
         self.pending = 0;
+    }
+
+    /// Bytes of the positions (or the velocities) on the GPU.
+    fn state_bytes(&self) -> u64 {
+        (4 * self.kernels.precision.size() * self.count) as u64
+    }
+
+    /// The floating-point type it runs in.
+    pub fn precision(&self) -> Precision {
+        self.kernels.precision
     }
 
     /// Whether the read-back asked for has arrived (or failed).
@@ -352,22 +380,32 @@ impl GpuWorld {
         if let Some(Err(error)) = mapped {
             return Err(GpuError::Device(error));
         }
-        let n = self.count as u64;
         let b = &self.kernels;
-        let slice = b.readback.slice(..32 * n + 8);
+        let state = self.state_bytes() as usize;
+        let slice = b.readback.slice(..2 * state as u64 + 8);
         let read = slice
             .get_mapped_range()
             .map_err(|e| GpuError::Device(e.to_string()))
             .map(|data| {
-                let floats: &[[f32; 4]] = bytemuck::cast_slice(&data[..32 * n as usize]);
-                let status: &[u32] = bytemuck::cast_slice(&data[32 * n as usize..]);
-                let widen = |p: &[f32; 4]| Vec3::new(p[0].into(), p[1].into(), p[2].into());
-                let (position, velocity) = floats.split_at(self.count);
-                for (to, from) in world.particles.position.iter_mut().zip(position) {
-                    *to = widen(from);
+                let values = b.precision.read(&data[..2 * state]);
+                let status: &[u32] = bytemuck::cast_slice(&data[2 * state..]);
+                let (position, velocity) = values.split_at(4 * self.count);
+                let vector = |p: &[f64]| Vec3::new(p[0], p[1], p[2]);
+                for (to, from) in world
+                    .particles
+                    .position
+                    .iter_mut()
+                    .zip(position.chunks_exact(4))
+                {
+                    *to = vector(from);
                 }
-                for (to, from) in world.particles.velocity.iter_mut().zip(velocity) {
-                    *to = widen(from);
+                for (to, from) in world
+                    .particles
+                    .velocity
+                    .iter_mut()
+                    .zip(velocity.chunks_exact(4))
+                {
+                    *to = vector(from);
                 }
                 (status[0], status[1])
             });

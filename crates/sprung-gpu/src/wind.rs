@@ -17,8 +17,10 @@ pub const MAX_MODES: usize = 8;
 #[derive(Debug, Clone, Default)]
 pub struct WindLayout {
     /// Per element, its particles (a segment's third is [`SEGMENT`]) and
-    /// its body's wind scale (f32 bits).
+    /// its body, in [`WindLayout::scales`].
     pub elements: Vec<[u32; 4]>,
+    /// Each body's wind scale.
+    pub scales: Vec<f64>,
     /// Particle `i`'s elements are `links[first[i]..first[i + 1]]`.
     pub first: Vec<u32>,
     /// The elements around each particle (an element once a corner).
@@ -27,9 +29,9 @@ pub struct WindLayout {
     pub kind: [u32; 4],
     /// The simple model's coefficient (N·s/m) or the area model's air
     /// density (kg/m³), the lift, the modes' amplitude (m/s).
-    pub coefficients: [f32; 4],
+    pub coefficients: [f64; 4],
     /// Per mode, its direction then its wave vector (1/m).
-    pub modes: [[f32; 4]; 2 * MAX_MODES],
+    pub modes: [[f64; 4]; 2 * MAX_MODES],
     /// The wind, for its field's time-dependent parts.
     pub wind: Option<Wind>,
 }
@@ -45,10 +47,12 @@ impl WindLayout {
         };
         let mut layout = WindLayout::default();
         for (index, body) in world.bodies.iter().enumerate() {
-            let scale = wind.body_scale.get(index).copied().unwrap_or(1.0) as f32;
-            let bits = scale.to_bits();
-            let faces = body.faces.iter().map(|&[a, b, c]| [a, b, c, bits]);
-            let segments = body.segments.iter().map(|&[a, b]| [a, b, SEGMENT, bits]);
+            layout
+                .scales
+                .push(wind.body_scale.get(index).copied().unwrap_or(1.0));
+            let slot = index as u32;
+            let faces = body.faces.iter().map(|&[a, b, c]| [a, b, c, slot]);
+            let segments = body.segments.iter().map(|&[a, b]| [a, b, SEGMENT, slot]);
             layout.elements.extend(faces.chain(segments));
         }
         let mut corners = Vec::new();
@@ -67,10 +71,10 @@ impl WindLayout {
             WindModel::Area { air_density, lift } => (air_density, lift),
         };
         let scale = wind.field.turbulence_scale();
-        layout.coefficients = [coefficient as f32, lift as f32, scale as f32, 0.0];
+        layout.coefficients = [coefficient, lift, scale, 0.0];
         for (k, mode) in modes.iter().enumerate().take(MAX_MODES) {
-            layout.modes[2 * k] = mode.direction.as_vec3().extend(0.0).into();
-            layout.modes[2 * k + 1] = mode.wave_vector.as_vec3().extend(0.0).into();
+            layout.modes[2 * k] = mode.direction.extend(0.0).into();
+            layout.modes[2 * k + 1] = mode.wave_vector.extend(0.0).into();
         }
         layout.wind = Some(wind.clone());
         layout
@@ -80,12 +84,12 @@ impl WindLayout {
     /// each mode's phase less its turns so far, `φ - ω t` (rad), taken in
     /// f64 and reduced to one turn so that f32 holds it to its precision
     /// however late the run.
-    pub fn stage(wind: Option<&Wind>, time: Real) -> [f32; 12] {
-        let mut values = [0f32; 12];
+    pub fn stage(wind: Option<&Wind>, time: Real) -> [f64; 12] {
+        let mut values = [0f64; 12];
         let Some(wind) = wind else {
             return values;
         };
-        let mean = wind.field.gusting_at(time).as_vec3();
+        let mean = wind.field.gusting_at(time);
         values[..3].copy_from_slice(&mean.to_array());
         for (k, mode) in wind
             .field
@@ -95,7 +99,7 @@ impl WindLayout {
             .take(MAX_MODES)
         {
             let phase = (mode.phase - mode.frequency * time).rem_euclid(std::f64::consts::TAU);
-            values[4 + k] = phase as f32;
+            values[4 + k] = phase;
         }
         values
     }

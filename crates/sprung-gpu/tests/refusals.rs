@@ -7,7 +7,7 @@ use sprung::{
     Collider, ContactResponse, Gas, IntegratorKind, Path, Shape, StepError, Vec3, VolumeModel,
     World,
 };
-use sprung_gpu::{support, Gpu, GpuError, GpuWorld};
+use sprung_gpu::{support, Gpu, GpuError, GpuWorld, Precision};
 
 fn cloth(kind: IntegratorKind) -> World {
     let mut world = World::new(kind);
@@ -77,8 +77,7 @@ fn a_world_the_gpu_step_cannot_run_is_refused_with_the_feature_named() {
 #[test]
 fn a_blow_up_stops_at_its_step_and_names_it() {
     let Some(gpu) = common::gpu() else { return };
-    let mut world = cloth(IntegratorKind::SymplecticEuler);
-    let stable = world.stable_time_step();
+    let stable = cloth(IntegratorKind::SymplecticEuler).stable_time_step();
     let mut cpu = cloth(IntegratorKind::SymplecticEuler);
     let on_cpu = (0..200)
         .find_map(|_| match cpu.step(20.0 * stable) {
@@ -86,22 +85,30 @@ fn a_blow_up_stops_at_its_step_and_names_it() {
             _ => None,
         })
         .expect("the engine blows up within 200 steps");
-    let mut step = GpuWorld::on(gpu, &world, 20.0 * stable).unwrap();
-    step.step(200);
-    match step.read_into(&mut world) {
-        Err(GpuError::Step(StepError::BlowUp {
-            step,
-            dt,
-            stable_dt,
-            ..
-        })) => {
-            // The state grows by a large factor a step: f32 and f64 pass
-            // the limit (10⁶ m or m/s) at the same step.
-            assert_eq!(step, on_cpu);
-            assert_eq!((dt, stable_dt), (20.0 * stable, stable));
-            assert_eq!(world.steps(), step);
+    let mut precisions = vec![Precision::F32];
+    if common::has_f64(&gpu) {
+        precisions.push(Precision::F64);
+    }
+    for precision in precisions {
+        let mut world = cloth(IntegratorKind::SymplecticEuler);
+        let mut step =
+            GpuWorld::in_precision(gpu.clone(), &world, 20.0 * stable, precision).unwrap();
+        step.step(200);
+        match step.read_into(&mut world) {
+            Err(GpuError::Step(StepError::BlowUp {
+                step,
+                dt,
+                stable_dt,
+                ..
+            })) => {
+                // The state grows by a large factor a step: f32 and f64
+                // pass the limit (10⁶ m or m/s) at the same step.
+                assert_eq!(step, on_cpu, "{precision}");
+                assert_eq!((dt, stable_dt), (20.0 * stable, stable));
+                assert_eq!(world.steps(), step);
+            }
+            other => panic!("{precision}: not a blow-up: {other:?}"),
         }
-        other => panic!("not a blow-up: {other:?}"),
     }
 }
 

@@ -118,8 +118,12 @@ impl App {
                     Some(settings) => Sim::with_settings(scene, settings),
                     None => Sim::new(scene),
                 };
-                if device == Device::Gpu {
-                    match GpuRun::new() {
+                if device.is_gpu() {
+                    let precision = match device {
+                        Device::GpuF64 => sprung_gpu::Precision::F64,
+                        _ => sprung_gpu::Precision::F32,
+                    };
+                    match GpuRun::new(precision) {
                         Ok(gpu) => sim.gpu = Some(gpu),
                         Err(message) => {
                             report(&message);

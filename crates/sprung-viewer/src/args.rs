@@ -6,7 +6,7 @@ use std::path::PathBuf;
 /// Usage, printed by `--help` and after a malformed command line.
 pub const USAGE: &str = "\
 usage: sprung-viewer [SCENE.toml] [--demo NAME] [--frames N] [--screenshot FILE]
-                     [--exit-after SECONDS] [--size WxH] [--device cpu|gpu]
+                     [--exit-after SECONDS] [--size WxH] [--device cpu|gpu|gpu_f64]
 
   SCENE.toml          a scene file (default: the demo ball2d; pick others in the window)
   --demo NAME         start on a built-in demo (ball2d, ball3d, flag, ...)
@@ -14,8 +14,10 @@ usage: sprung-viewer [SCENE.toml] [--demo NAME] [--frames N] [--screenshot FILE]
   --screenshot FILE   with --frames: save the last frame as a PNG
   --exit-after S      exit after S seconds of wall-clock time
   --size WxH          window size in pixels (default 1280x800)
-  --device cpu|gpu    where the steps run (default: the scene's `device`); on the
-                      GPU while it can run the world (not while a hand holds it)";
+  --device cpu|gpu|gpu_f64
+                      where the steps run (default: the scene's `device`); on the
+                      GPU (in f32, or f64) while it can run the world (not while a
+                      hand holds it)";
 
 /// What the command line asks for.
 #[derive(Debug, Clone, PartialEq)]

@@ -17,7 +17,7 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use sprung::{Real, Vec3, World};
-use sprung_gpu::{support, Gpu, GpuError, GpuWorld};
+use sprung_gpu::{support, Gpu, GpuError, GpuWorld, Precision};
 
 /// The GPU, once it has arrived (or why it will not).
 type Arrival = Rc<RefCell<Option<Result<Gpu, String>>>>;
@@ -32,6 +32,8 @@ pub struct GpuRun {
     /// Why the steps run on the engine although the GPU was asked for (a
     /// browser without WebGPU), for the page to show.
     pub notice: Option<String>,
+    /// The floating-point type of the steps on the GPU.
+    precision: Precision,
     /// Steps taken on the GPU and read back so far.
     pub steps: u64,
     /// The last steps went to the GPU (not the engine).
@@ -98,11 +100,12 @@ fn arrival() -> Result<Arrival, String> {
 }
 
 impl GpuRun {
-    /// The GPU, or why there is none (natively; in a browser it arrives
-    /// later, or the page is told why not).
-    pub fn new() -> Result<GpuRun, String> {
+    /// The GPU, to step in `precision`, or why there is none (natively;
+    /// in a browser it arrives later, or the page is told why not).
+    pub fn new(precision: Precision) -> Result<GpuRun, String> {
         Ok(GpuRun {
             gpu: arrival()?,
+            precision,
             on_gpu: None,
             lacked: None,
             notice: None,
@@ -170,7 +173,7 @@ impl GpuRun {
                 && on.read.1 == world.particles.velocity
         });
         if !current {
-            match GpuWorld::on(gpu, world, dt) {
+            match GpuWorld::in_precision(gpu, world, dt, self.precision) {
                 Ok(gpu_world) => {
                     self.on_gpu = Some(OnGpu {
                         world: gpu_world,

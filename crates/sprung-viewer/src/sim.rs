@@ -385,7 +385,7 @@ mod tests {
     #[test]
     fn a_hand_sends_the_steps_to_the_engine_and_back_to_the_gpu() {
         use sprung::forces::MouseSpring;
-        let gpu = match GpuRun::new() {
+        let gpu = match GpuRun::new(sprung_gpu::Precision::F32) {
             Ok(gpu) => gpu,
             Err(e) if std::env::var("SPRUNG_GPU_TESTS").as_deref() != Ok("require") => {
                 eprintln!("skipped: {e}");

@@ -4,7 +4,7 @@
 use std::time::Instant;
 
 use sprung::{parallel, IntegratorKind, World};
-use sprung_gpu::{Gpu, GpuWorld};
+use sprung_gpu::{Gpu, GpuError, GpuWorld, Precision};
 use sprung_io::export::AtomicFile;
 
 use super::cases;
@@ -33,22 +33,28 @@ impl GpuRow {
     }
 }
 
-fn gpu_error(error: sprung_gpu::GpuError) -> CliError {
+fn gpu_error(error: GpuError) -> CliError {
     CliError::Input(format!("bench --device gpu: {error}"))
 }
 
 /// Seconds a step of `world` on the GPU: a warm-up, then batches doubling
 /// until one takes `least` seconds (the steps queued, then waited for;
 /// nothing read back).
-fn gpu_seconds(gpu: &Gpu, world: &World, dt: f64, least: f64) -> Result<f64, CliError> {
-    let mut step = GpuWorld::on(gpu.clone(), world, dt).map_err(gpu_error)?;
+fn gpu_seconds(
+    gpu: &Gpu,
+    world: &World,
+    dt: f64,
+    least: f64,
+    precision: Precision,
+) -> Result<f64, GpuError> {
+    let mut step = GpuWorld::in_precision(gpu.clone(), world, dt, precision)?;
     step.step(4);
-    step.wait().map_err(gpu_error)?;
+    step.wait()?;
     let mut batch = 8u64;
     loop {
         let start = Instant::now();
         step.step(batch);
-        step.wait().map_err(gpu_error)?;
+        step.wait()?;
         let elapsed = start.elapsed().as_secs_f64();
         if elapsed >= least || batch >= 1 << 20 {
             return Ok(elapsed / batch as f64);
@@ -73,16 +79,18 @@ fn cpu_seconds(world: &mut World, dt: f64, least: f64) -> Result<f64, CliError> 
     Ok(start.elapsed().as_secs_f64() / f64::from(taken))
 }
 
-/// Time the cloths of `sizes` (and the largest under RK4) on the GPU and
-/// on `pool`, print the table, and write it to `csv` if given.
+/// Time the cloths of `sizes` (and the largest under RK4) on the GPU in
+/// `precision` and on `pool`, print the table, and write it to `csv` if
+/// given.
 pub fn run(
     pool: &parallel::Pool,
     sizes: &[usize],
     least: f64,
+    precision: Precision,
     csv: Option<&std::path::Path>,
 ) -> Result<(), CliError> {
     let gpu = Gpu::new().map_err(gpu_error)?;
-    println!("GPU: {}", gpu.name());
+    println!("GPU: {}, in {precision}", gpu.name());
     let largest = sizes.iter().copied().max().unwrap_or(0);
     let mut cloths: Vec<(usize, IntegratorKind)> = sizes
         .iter()
@@ -108,7 +116,16 @@ pub fn run(
     for (size, kind) in cloths {
         let mut world = cases::cloth(size, kind)?;
         let dt = 0.5 * world.stable_time_step();
-        let gpu_seconds = gpu_seconds(&gpu, &world, dt, least)?;
+        let gpu_seconds = match gpu_seconds(&gpu, &world, dt, least, precision) {
+            Ok(seconds) => seconds,
+            // The next cloth may fit no better, but the rows so far are
+            // kept and the larger ones said.
+            Err(too_large @ GpuError::TooLarge { .. }) => {
+                println!("cloth {size}² ({}): {too_large}", kind.name());
+                continue;
+            }
+            Err(other) => return Err(gpu_error(other)),
+        };
         let cpu_seconds = pool.install(|| cpu_seconds(&mut world, dt, least))?;
         let row = GpuRow {
             name: format!("cloth {size}²"),
@@ -141,17 +158,18 @@ pub fn run(
     );
     if let Some(path) = csv {
         let mut text = String::from(
-            "case,integrator,particles,springs,gpu,gpu_seconds_per_step,gpu_spring_updates_per_second,cpu_threads,cpu_seconds_per_step,cpu_spring_updates_per_second\n",
+            "case,integrator,particles,springs,gpu,precision,gpu_seconds_per_step,gpu_spring_updates_per_second,cpu_threads,cpu_seconds_per_step,cpu_spring_updates_per_second\n",
         );
         for row in &rows {
             text.push_str(&format!(
-                "{},{},{},{},{},{:e},{:e},{},{:e},{:e}\n",
+                "{},{},{},{},{},{},{:e},{:e},{},{:e},{:e}\n",
                 row.name,
                 row.integrator.name(),
                 row.particles,
                 row.springs,
                 // The adapter's name and kind, its commas made semicolons.
                 gpu.name().replace(',', ";"),
+                precision,
                 row.gpu_seconds,
                 row.spring_updates(row.gpu_seconds),
                 pool.threads(),

@@ -91,9 +91,10 @@ pub struct BenchArgs {
     /// again, or the figure the issue recorded) and the goal's target.
     #[arg(long, conflicts_with = "demos")]
     goals: bool,
-    /// Where the cloths are stepped: cpu (the table above) or gpu (the
-    /// GPU step against the engine on every thread: --sizes, default 256,
-    /// 512 and 1024, and the largest under RK4 too).
+    /// Where the cloths are stepped: cpu (the table above), gpu or
+    /// gpu_f64 (the GPU step in f32 or f64 against the engine on every
+    /// thread: --sizes, default 256, 512 and 1024, and the largest under
+    /// RK4 too).
     #[arg(long, default_value = "cpu", conflicts_with_all = ["demos", "goals", "compare", "only"])]
     device: Device,
     /// Small cases and short timings: checks that the bench runs, measures
@@ -208,13 +209,14 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     if args.goals {
         return goals::run(&one_pool, &all_pool, args.quick, args.csv.as_deref());
     }
-    if args.device == Device::Gpu {
+    if args.device.is_gpu() {
         let (sizes, least) = match (args.quick, args.sizes.is_empty()) {
             (true, _) => (vec![8, 16], 0.0),
             (false, false) => (args.sizes.clone(), seconds),
             (false, true) => (vec![256, 512, 1024], seconds),
         };
-        return gpu::run(&all_pool, &sizes, least, args.csv.as_deref());
+        let precision = crate::on_gpu::precision(args.device);
+        return gpu::run(&all_pool, &sizes, least, precision, args.csv.as_deref());
     }
     let sizes = match (args.quick, args.sizes.is_empty()) {
         (true, _) => vec![8, 16],

@@ -16,3 +16,16 @@ pub fn gpu() -> Option<Gpu> {
         Err(error) => panic!("SPRUNG_GPU_TESTS=require, but {error}"),
     }
 }
+
+/// Whether `gpu` runs f64 (lavapipe does); where it does not, an f64
+/// test passes saying so, unless `SPRUNG_GPU_TESTS` is `require`.
+pub fn has_f64(gpu: &Gpu) -> bool {
+    if gpu.has_f64() {
+        return true;
+    }
+    if std::env::var("SPRUNG_GPU_TESTS").as_deref() == Ok("require") {
+        panic!("SPRUNG_GPU_TESTS=require, but {} has no f64", gpu.name());
+    }
+    eprintln!("skipped: {} has no f64", gpu.name());
+    false
+}

@@ -14,9 +14,11 @@ pub enum Device {
     /// The engine, on the processor's threads.
     #[default]
     Cpu,
-    /// The GPU step (`sprung-gpu`), for the scenes it has what they ask
-    /// for (docs/gpu.md).
+    /// The GPU step (`sprung-gpu`) in f32, for the scenes it has what they
+    /// ask for (docs/gpu.md).
     Gpu,
+    /// The GPU step in f64, on adapters that have it.
+    GpuF64,
 }
 
 impl Device {
@@ -25,7 +27,13 @@ impl Device {
         match self {
             Device::Cpu => "cpu",
             Device::Gpu => "gpu",
+            Device::GpuF64 => "gpu_f64",
         }
+    }
+
+    /// Whether the steps run on the GPU (in either precision).
+    pub fn is_gpu(self) -> bool {
+        self != Device::Cpu
     }
 }
 
@@ -36,8 +44,9 @@ impl std::str::FromStr for Device {
         match name {
             "cpu" => Ok(Device::Cpu),
             "gpu" => Ok(Device::Gpu),
+            "gpu_f64" => Ok(Device::GpuF64),
             _ => Err(format!(
-                "unknown device \"{name}\" (expected \"cpu\" or \"gpu\")"
+                "unknown device \"{name}\" (expected \"cpu\", \"gpu\" or \"gpu_f64\")"
             )),
         }
     }
