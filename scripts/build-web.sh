@@ -30,7 +30,8 @@ sys.exit("build-web.sh: no wasm-bindgen in Cargo.lock") if not found else print(
 ')
 if [ "$(wasm-bindgen --version 2>/dev/null)" != "wasm-bindgen $bindgen_version" ]; then
   echo "== cargo install wasm-bindgen-cli --version $bindgen_version"
-  cargo install wasm-bindgen-cli --version "$bindgen_version"
+  # --force: cargo may record an install whose binary is gone.
+  cargo install --force wasm-bindgen-cli --version "$bindgen_version"
 fi
 
 echo "== cargo build --release --target wasm32-unknown-unknown -p sprung-viewer"

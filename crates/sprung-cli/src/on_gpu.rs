@@ -60,7 +60,7 @@ pub fn start(scene: &Scene, options: &RunOptions) -> Result<Option<OnGpu>, CliEr
 
 /// A GPU error that is not a blow-up of the run, in words.
 pub fn failed(error: &GpuError) -> CliError {
-    CliError::Input(format!("--device gpu: {error}"))
+    CliError::Input(format!("the GPU step: {error}"))
 }
 
 /// The precision `device` asks for (f64 for `gpu_f64`).

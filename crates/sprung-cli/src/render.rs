@@ -244,7 +244,7 @@ fn run_scene(
     let recording = match args.device.unwrap_or(scene.device) {
         Device::Cpu => record(&mut scene.world, scene.dt, steps, every),
         device @ (Device::Gpu | Device::GpuF64) => {
-            let gpu_error = |e: &GpuError| CliError::Input(format!("--device {device}: {e}"));
+            let gpu_error = |e: &GpuError| CliError::Input(format!("the GPU step: {e}"));
             let mut gpu = crate::on_gpu::put_on_gpu(&scene.world, scene.dt, device)
                 .map_err(|e| gpu_error(&e))?;
             if !args.quiet {

@@ -169,7 +169,7 @@ fn no_adapter_is_a_clear_error() {
     let stderr = text(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
-        stderr.contains("--device gpu: no GPU adapter found"),
+        stderr.contains("the GPU step: no GPU adapter found"),
         "{stderr}"
     );
     assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");

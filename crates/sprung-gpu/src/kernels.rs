@@ -42,6 +42,20 @@ pub struct Kernels {
     pub state_group: wgpu::BindGroup,
     pub stage_group: wgpu::BindGroup,
     pub pipelines: Pipelines,
+    /// The other buffers (the bind group reads them), kept to be freed.
+    others: Vec<wgpu::Buffer>,
+}
+
+impl Drop for Kernels {
+    /// Free the buffers now: in a browser a dropped buffer would wait for
+    /// the page's garbage collector.
+    fn drop(&mut self) {
+        let kept = [&self.position, &self.velocity, &self.status];
+        let more = [&self.readback, &self.stage];
+        for buffer in kept.into_iter().chain(more).chain(&self.others) {
+            buffer.destroy();
+        }
+    }
 }
 
 /// Values in one stage slot (`Stage` in the kernels: sixteen vectors of
@@ -300,10 +314,10 @@ impl Kernels {
             rk4_end: kernel("rk4_end"),
             tick: kernel("tick"),
         };
-        // The bind group keeps the other buffers alive.
         let status = made.remove(6);
         let velocity = made.remove(1);
         let position = made.remove(0);
+        made.push(uniform);
         Ok(Kernels {
             position,
             velocity,
@@ -316,6 +330,7 @@ impl Kernels {
             state_group,
             stage_group,
             pipelines,
+            others: made,
         })
     }
 }

@@ -1,5 +1,6 @@
 //! A world's particles, springs and colliders laid out as the kernels read
-//! them (`kernels.wgsl`): f32, four to a particle, and each particle's
+//! them (`kernels.wgsl`): four reals to a particle (f64 here, written in
+//! the run's precision when the buffers are made), and each particle's
 //! springs in a compressed adjacency.
 
 use bytemuck::{Pod, Zeroable};
@@ -96,8 +97,9 @@ pub struct Params {
 
 impl Params {
     /// The block's bytes with its real numbers in `precision`: the
-    /// unsigned words first (a multiple of 32 bytes), then the vectors of
-    /// reals, so that f32 and f64 lay out alike (`Params` in the kernels).
+    /// vectors of reals first, then the unsigned words (after a multiple
+    /// of 32 bytes), so that f32 and f64 lay out alike (`Params` in the
+    /// kernels; why the reals come first is said there).
     pub fn bytes(&self, precision: Precision) -> Vec<u8> {
         let mut words: Vec<u32> = vec![
             self.count,
@@ -116,8 +118,7 @@ impl Params {
         words.extend(self.wind_kind);
         words.extend(self.gas.iter().flatten());
         words.extend(self.collider.iter().flat_map(|c| c.kind));
-        words.resize(words.len().next_multiple_of(8), 0);
-        let mut bytes: Vec<u8> = bytemuck::cast_slice(&words).to_vec();
+        let mut bytes = Vec::new();
         let limits = [
             self.h,
             self.max_distance_squared,
@@ -133,6 +134,7 @@ impl Params {
         reals.extend(self.collider.iter().flat_map(|c| c.normal));
         reals.extend(self.collider.iter().flat_map(|c| c.coefficients));
         precision.extend(&mut bytes, &reals);
+        bytes.extend_from_slice(bytemuck::cast_slice(&words));
         bytes
     }
 }

@@ -6,8 +6,9 @@
 //! A [`GpuWorld`] is made from a [`World`](sprung::World) the GPU step can
 //! run ([`support::check`]: springs, gravity, air drag, static plane and
 //! sphere colliders; symplectic Euler, Verlet and RK4), holds the state on
-//! the GPU between steps, in f32, and writes it back into the world only
-//! when asked ([`GpuWorld::read_into`]). Springs are gathered per particle
+//! the GPU between steps, in f32 (or f64 where the adapter has it:
+//! [`Precision`]), and writes it back into the world only when asked
+//! ([`GpuWorld::read_into`]). Springs are gathered per particle
 //! over a compressed adjacency, with no atomic additions, so two runs give
 //! the same bits.
 //!
@@ -59,6 +60,11 @@ pub enum GpuError {
     /// The world asks for something the GPU step lacks.
     #[error("the GPU step lacks {0}: run this scene with --device cpu")]
     Unsupported(String),
+    /// f64 was asked for on an adapter without it (wgpu's `SHADER_F64`).
+    #[error(
+        "the GPU adapter \"{0}\" has no f64 (SHADER_F64): run in f32 (--device gpu) or on the CPU"
+    )]
+    NoF64(String),
     /// The world is larger than the adapter's buffers.
     #[error("the world needs a GPU buffer of {bytes} bytes, above the adapter's limit of {limit}")]
     TooLarge {

@@ -98,14 +98,17 @@ fn cosine(x: real) -> real {
 }
 ";
 
-/// f64: no bit casts to 64-bit words, and no f64 cosine in SPIR-V's
-/// standard functions, so a comparison that NaN and infinity fail, and a
-/// cosine reduced to [0, π/2] and summed as its Taylor series to x²⁰
-/// (the remainder (π/2)²²/22! ≈ 2·10⁻¹⁷, below f64's rounding).
+/// f64: WGSL has no bit casts of 64-bit words, so a coordinate is tested
+/// narrowed to f32, where NaN and infinity stay so (and a coordinate past
+/// 3.4·10³⁸ m or m/s counts as blown up too, far past any `max_distance`
+/// a scene sets); SPIR-V's standard functions have no f64 cosine, so one
+/// reduced to [0, π/2] and summed as its Taylor series to x²⁰ (the
+/// remainder (π/2)²²/22! ≈ 2·10⁻¹⁷, below f64's rounding).
 const PRELUDE_F64: &str = "alias real = f64;
 
 fn not_finite(v: vec3<real>) -> bool {
-    return !all(abs(v) <= vec3<real>(1.7976931348623157e308));
+    let bits = bitcast<vec3<u32>>(vec3<f32>(v)) & vec3<u32>(0x7f800000u);
+    return any(bits == vec3<u32>(0x7f800000u));
 }
 
 fn cosine(x: real) -> real {

@@ -22,7 +22,8 @@ const STEPS_PER_SUBMIT: u64 = 64;
 const SLOTS: u64 = 1024;
 
 /// A world whose explicit step runs on the GPU ([`support::check`] says
-/// which worlds), in f32, its state held there between steps.
+/// which worlds), in f32 or f64 ([`Precision`]), its state held there
+/// between steps.
 #[derive(Debug)]
 pub struct GpuWorld {
     gpu: Gpu,
@@ -98,10 +99,7 @@ impl GpuWorld {
     ) -> Result<GpuWorld, GpuError> {
         support::check(world)?;
         if precision == Precision::F64 && !gpu.has_f64() {
-            return Err(GpuError::Unsupported(format!(
-                "f64 on the adapter {} (it has no SHADER_F64): use --device gpu for f32",
-                gpu.name()
-            )));
+            return Err(GpuError::NoF64(gpu.name()));
         }
         if !(dt.is_finite() && dt > 0.0) {
             return Err(sprung::StepError::InvalidTimeStep { dt }.into());
@@ -307,6 +305,11 @@ impl GpuWorld {
     /// the CPU would. Nothing more can be stepped then.
     #[cfg(not(target_arch = "wasm32"))]
     pub fn read_into(&mut self, world: &mut World) -> Result<(), GpuError> {
+        // A read asked for earlier holds fewer steps: take it first.
+        if self.reading.is_some() {
+            self.poll()?;
+            self.finish_read(world)?;
+        }
         self.request_read();
         self.poll()?;
         self.finish_read(world)

@@ -38,6 +38,8 @@ pub struct GpuRun {
     pub steps: u64,
     /// The last steps went to the GPU (not the engine).
     pub stepping: bool,
+    /// The world on the GPU is to be put there again.
+    stale: bool,
 }
 
 /// A world on the GPU, with what it last read back: a world that no
@@ -62,7 +64,7 @@ fn note(message: &str) {
 
 #[cfg(not(target_arch = "wasm32"))]
 fn arrival() -> Result<Arrival, String> {
-    let gpu = Gpu::new().map_err(|e| format!("--device gpu: {e}"))?;
+    let gpu = Gpu::new().map_err(|e| format!("the GPU step: {e}"))?;
     note(&format!("stepping on the GPU: {}", gpu.name()));
     Ok(Rc::new(RefCell::new(Some(Ok(gpu)))))
 }
@@ -103,14 +105,22 @@ impl GpuRun {
     /// The GPU, to step in `precision`, or why there is none (natively;
     /// in a browser it arrives later, or the page is told why not).
     pub fn new(precision: Precision) -> Result<GpuRun, String> {
+        // WebGPU has no f64.
+        let (precision, notice) = if cfg!(target_arch = "wasm32") && precision == Precision::F64 {
+            let why = "WebGPU has no f64: stepping on the GPU in f32";
+            (Precision::F32, Some(why.to_string()))
+        } else {
+            (precision, None)
+        };
         Ok(GpuRun {
             gpu: arrival()?,
             precision,
             on_gpu: None,
             lacked: None,
-            notice: None,
+            notice,
             steps: 0,
             stepping: false,
+            stale: false,
         })
     }
 
@@ -120,10 +130,11 @@ impl GpuRun {
         cfg!(target_arch = "wasm32")
     }
 
-    /// Forget the world on the GPU (its springs, gas or wind were changed):
-    /// it is put there again before the next steps.
+    /// Mark the world on the GPU stale (its springs, gas or wind were
+    /// changed): it is put there again before the next steps, once the
+    /// steps on their way have landed.
     pub fn invalidate(&mut self) {
-        self.on_gpu = None;
+        self.stale = true;
     }
 
     /// Take `steps` steps of `dt` (s) of `world` on the GPU: the steps
@@ -167,12 +178,14 @@ impl GpuRun {
                 }
             }
         }
-        let current = self.on_gpu.as_ref().is_some_and(|on| {
-            on.dt == dt
-                && on.read.0 == world.particles.position
-                && on.read.1 == world.particles.velocity
-        });
+        let current = !self.stale
+            && self.on_gpu.as_ref().is_some_and(|on| {
+                on.dt == dt
+                    && on.read.0 == world.particles.position
+                    && on.read.1 == world.particles.velocity
+            });
         if !current {
+            self.stale = false;
             match GpuWorld::in_precision(gpu, world, dt, self.precision) {
                 Ok(gpu_world) => {
                     self.on_gpu = Some(OnGpu {
@@ -185,7 +198,7 @@ impl GpuRun {
                         reading: false,
                     });
                 }
-                Err(error) => return Some(Err(format!("--device gpu: {error}"))),
+                Err(error) => return Some(Err(format!("the GPU step: {error}"))),
             }
         }
         let on = self.on_gpu.as_mut()?;
@@ -196,7 +209,7 @@ impl GpuRun {
         #[cfg(not(target_arch = "wasm32"))]
         {
             if let Err(error) = on.world.wait() {
-                return Some(Err(format!("--device gpu: {error}")));
+                return Some(Err(format!("the GPU step: {error}")));
             }
             if let Some(Err(failure)) = self.land(world) {
                 return Some(Err(failure));
@@ -226,7 +239,7 @@ impl GpuRun {
         on.read.1.clone_from(&world.particles.velocity);
         Some(read.map_err(|error| match error {
             GpuError::Step(step) => step.to_string(),
-            other => format!("--device gpu: {other}"),
+            other => format!("the GPU step: {other}"),
         }))
     }
 }

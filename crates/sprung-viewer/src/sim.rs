@@ -184,14 +184,13 @@ impl Sim {
         // the rest of the budget allows at the last batch's pace: the budget
         // is overrun by about a step, as when the steps were taken one by
         // one, unless the steps get dearer within the frame.
-        // In a browser the GPU takes a frame's steps at once and they land
-        // at the next frame.
-        let at_once = self.gpu.as_ref().is_some_and(GpuRun::takes_a_frame);
-        let mut batch = if at_once { usize::MAX } else { 1 };
+        // In a browser the GPU takes all the steps owed at once (they land
+        // at the next frame); the engine takes its batches.
+        let mut batch = 1usize;
         while self.debt >= dt {
             let owed = (self.debt / dt) as usize;
             let before = clock();
-            let (taken, ok) = self.step_batch(batch.min(owed.max(1)));
+            let (taken, ok) = self.step_batch(batch.min(owed.max(1)), owed.max(1), false);
             for _ in 0..taken {
                 self.debt -= dt;
                 simulated += dt;
@@ -201,9 +200,10 @@ impl Sim {
                 break;
             }
             if taken == 0 {
-                // The GPU's last steps have not landed: this frame's time
-                // is dropped (slow motion) rather than owed.
-                self.behind = true;
+                // The GPU's last steps have not landed: the time owed from
+                // before this frame is dropped (slow motion), this frame's
+                // kept for the next.
+                self.behind = self.debt > wanted;
                 self.debt = self.debt.min(wanted);
                 break;
             }
@@ -214,7 +214,7 @@ impl Sim {
                 break;
             }
             if now - before < 0.1 * budget {
-                batch *= 2;
+                batch = batch.saturating_mul(2);
             }
             let per_step = (now - before) / taken as Real;
             if per_step > 0.0 {
@@ -230,15 +230,25 @@ impl Sim {
     }
 
     /// One step of the current `dt`; false (and `failure` set) on a blow-up.
+    /// In a browser the engine takes it: a GPU step would land only at the
+    /// next frame, which a paused run does not take.
     pub fn step_once(&mut self) -> bool {
-        self.step_batch(1).1
+        let engine = self.gpu.as_ref().is_some_and(GpuRun::takes_a_frame);
+        self.step_batch(1, 1, engine).1
     }
 
-    /// Up to `steps` steps of the current `dt`, on a thread of the engine's
-    /// pool; the steps taken, and false (and `failure` set) on a blow-up.
-    fn step_batch(&mut self, steps: usize) -> (usize, bool) {
+    /// Up to `steps` steps of the current `dt` (`at_once` where the GPU
+    /// takes a frame's steps together), on the GPU unless `engine`, else
+    /// on a thread of the engine's pool; the steps taken, and false (and
+    /// `failure` set) on a blow-up.
+    fn step_batch(&mut self, steps: usize, at_once: usize, engine: bool) -> (usize, bool) {
         let (world, dt) = (&mut self.world, self.settings.dt);
-        if let Some(stepped) = self.gpu.as_mut().and_then(|gpu| gpu.step(world, dt, steps)) {
+        let gpu = self.gpu.as_mut().filter(|_| !engine);
+        let stepped = gpu.and_then(|gpu| {
+            let steps = if gpu.takes_a_frame() { at_once } else { steps };
+            gpu.step(world, dt, steps)
+        });
+        if let Some(stepped) = stepped {
             return match stepped {
                 Ok(taken) => (taken, true),
                 Err(failure) => {
@@ -396,7 +406,7 @@ mod tests {
         let mut sim = sim("cloth");
         sim.gpu = Some(gpu);
         let steps_on_gpu = |sim: &Sim| sim.gpu.as_ref().map_or(0, |g| g.steps);
-        assert_eq!(sim.step_batch(10), (10, true));
+        assert_eq!(sim.step_batch(10, 10, false), (10, true));
         assert_eq!(steps_on_gpu(&sim), 10);
         let hand = MouseSpring {
             particle: 5,
@@ -405,11 +415,11 @@ mod tests {
             damping: 0.1,
         };
         sim.world.forces.push(Box::new(hand));
-        assert_eq!(sim.step_batch(10), (10, true));
+        assert_eq!(sim.step_batch(10, 10, false), (10, true));
         assert_eq!(steps_on_gpu(&sim), 10, "the engine took them");
         sim.world.forces.remove::<MouseSpring>();
         sim.world.particles.velocity[5] = Vec3::new(0.0, 3.0, 0.0); // thrown
-        assert_eq!(sim.step_batch(10), (10, true));
+        assert_eq!(sim.step_batch(10, 10, false), (10, true));
         assert_eq!(steps_on_gpu(&sim), 20);
         assert_eq!(sim.world.steps(), 30);
         // The throw went to the GPU with the state: the particle rose.

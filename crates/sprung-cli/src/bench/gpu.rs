@@ -34,7 +34,7 @@ impl GpuRow {
 }
 
 fn gpu_error(error: GpuError) -> CliError {
-    CliError::Input(format!("bench --device gpu: {error}"))
+    CliError::Input(format!("bench, the GPU step: {error}"))
 }
 
 /// Seconds a step of `world` on the GPU: a warm-up, then batches doubling
