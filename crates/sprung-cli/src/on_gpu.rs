@@ -47,11 +47,7 @@ pub fn start(scene: &Scene, options: &RunOptions) -> Result<Option<OnGpu>, CliEr
     if options.profile {
         return refuse("--profile times the engine's stages, which the GPU step does not run");
     }
-    let gpu = put_on_gpu(&scene.world, scene.dt, device).map_err(|e| failed(&e))?;
-    if !options.quiet {
-        let (name, precision) = (gpu.gpu().name(), gpu.precision());
-        eprintln!("note: stepping on the GPU in {precision}: {name}");
-    }
+    let gpu = put_on_gpu(&scene.world, scene.dt, device, options.quiet)?;
     Ok(Some(OnGpu {
         gpu,
         seconds_per_step: None,
@@ -72,9 +68,20 @@ pub fn precision(device: Device) -> Precision {
 }
 
 /// `world` on a new GPU, to be stepped by `dt` (s) in the precision
-/// `device` asks for.
-pub fn put_on_gpu(world: &World, dt: f64, device: Device) -> Result<GpuWorld, GpuError> {
-    GpuWorld::in_precision(Gpu::new()?, world, dt, precision(device))
+/// `device` asks for, with a note naming the adapter unless `quiet`.
+pub fn put_on_gpu(
+    world: &World,
+    dt: f64,
+    device: Device,
+    quiet: bool,
+) -> Result<GpuWorld, CliError> {
+    let gpu = Gpu::new().map_err(|e| failed(&e))?;
+    let gpu = GpuWorld::in_precision(gpu, world, dt, precision(device)).map_err(|e| failed(&e))?;
+    if !quiet {
+        let (name, precision) = (gpu.gpu().name(), gpu.precision());
+        eprintln!("note: stepping on the GPU in {precision}: {name}");
+    }
+    Ok(gpu)
 }
 
 impl OnGpu {

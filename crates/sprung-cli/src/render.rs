@@ -14,6 +14,7 @@ use sprung_view::render::{
     RenderSettings, Rendered, Snapshot, StrainColours, DEFAULT_FOV_DEGREES, DEFAULT_PICTURE_RATE,
 };
 
+use crate::on_gpu;
 use crate::run::CliError;
 use crate::values;
 
@@ -244,19 +245,13 @@ fn run_scene(
     let recording = match args.device.unwrap_or(scene.device) {
         Device::Cpu => record(&mut scene.world, scene.dt, steps, every),
         device @ (Device::Gpu | Device::GpuF64) => {
-            let gpu_error = |e: &GpuError| CliError::Input(format!("the GPU step: {e}"));
-            let mut gpu = crate::on_gpu::put_on_gpu(&scene.world, scene.dt, device)
-                .map_err(|e| gpu_error(&e))?;
-            if !args.quiet {
-                let (name, precision) = (gpu.gpu().name(), gpu.precision());
-                eprintln!("note: stepping on the GPU in {precision}: {name}");
-            }
+            let mut gpu = on_gpu::put_on_gpu(&scene.world, scene.dt, device, args.quiet)?;
             record_by(&mut scene.world, steps, every, |world, count| {
                 gpu.step(count);
                 match gpu.read_into(world) {
                     Ok(()) => Ok(Ok(())),
                     Err(GpuError::Step(blow_up)) => Ok(Err(blow_up)),
-                    Err(failure) => Err(gpu_error(&failure)),
+                    Err(failure) => Err(on_gpu::failed(&failure)),
                 }
             })?
         }

@@ -122,12 +122,12 @@ fn pack_faces(layout: &Layout) -> Result<(Vec<u32>, (u32, u32)), usize> {
     )?;
     // A wind element's fourth word: where its body's scale is in the
     // constants, after the springs.
-    let springs = word(layout.springs.len())?;
-    let elements: Vec<[u32; 4]> = wind
+    let springs = layout.springs.len();
+    let elements = wind
         .elements
         .iter()
-        .map(|&[a, b, c, body]| [a, b, c, springs + body])
-        .collect();
+        .map(|&[a, b, c, body]| Ok([a, b, c, word(springs + body as usize)?]))
+        .collect::<Result<Vec<[u32; 4]>, usize>>()?;
     let wind_at = pack_elements(&mut words, &elements, &wind.first, &wind.links)?;
     Ok((words, (gas_at, wind_at)))
 }

@@ -59,12 +59,10 @@ pub struct GpuWorld {
     stable_dt: Real,
 }
 
-/// A read-back on its way: whether (and how) the mapping ended, and the
-/// steps it covers.
+/// A read-back on its way: whether (and how) the mapping ended.
 #[derive(Debug)]
 struct Reading {
     mapped: Arc<Mutex<Option<Result<(), String>>>>,
-    steps: u64,
 }
 
 /// The times of one substep's force evaluations, as fractions of it.
@@ -204,16 +202,16 @@ impl GpuWorld {
             for &offset in evaluations(self.kind) {
                 let time = self.time + offset * self.h;
                 let start = self.stages.len();
-                self.stages.resize(start + stride, 0);
-                // The slot: the time, the wind, then each gas's nRT.
+                // The slot: the time, the wind, then each gas's nRT, padded
+                // to the stride (written in place: no allocation a slot).
                 let mut values = [0.0; STAGE_VALUES];
                 values[0] = time;
                 values[4..16].copy_from_slice(&WindLayout::stage(self.wind.as_ref(), time));
                 for (value, nrt) in values[16..].iter_mut().zip(gas::nrt_at(&self.gases, time)) {
                     *value = nrt;
                 }
-                let bytes = self.kernels.precision.bytes(&values);
-                self.stages[start..start + bytes.len()].copy_from_slice(&bytes);
+                self.kernels.precision.extend(&mut self.stages, &values);
+                self.stages.resize(start + stride, 0);
             }
             self.time += self.h;
         }
@@ -296,7 +294,7 @@ impl GpuWorld {
     }
 
     /// Wait for the steps run so far, then write the positions and
-    /// velocities into `world` (the one this was made from, f32 widened to
+    /// velocities into `world` (the one this was made from, widened to
     /// f64) and advance its clock by them ([`World::took_steps`]). If a
     /// step blew up, the GPU stopped at its end: the world gets that state
     /// and its clock stops there, and the engine's guard says which
@@ -342,10 +340,7 @@ impl GpuWorld {
                     *slot = Some(result.map_err(|e| e.to_string()));
                 }
             });
-        self.reading = Some(Reading {
-            mapped,
-            steps: self.pending,
-        });
+        self.reading = Some(Reading { mapped });
         self.pending = 0;
     }
 
@@ -357,6 +352,11 @@ impl GpuWorld {
     /// The floating-point type it runs in.
     pub fn precision(&self) -> Precision {
         self.kernels.precision
+    }
+
+    /// Whether a read-back was asked for and not yet taken.
+    pub fn is_reading(&self) -> bool {
+        self.reading.is_some()
     }
 
     /// Whether the read-back asked for has arrived (or failed).
@@ -416,12 +416,12 @@ impl GpuWorld {
         let (taken, blew_up) = read?;
         // Steps taken up to the read: all those run before it, or up to
         // the one that blew up.
-        debug_assert!(u64::from(taken) - self.read <= reading.steps);
         let steps = u64::from(taken) - self.read;
         self.read = u64::from(taken);
         world.took_steps(self.dt, steps)?;
         if blew_up != u32::MAX {
-            // Past a limit in f32, within it in f64.
+            // Past a limit on the GPU, perhaps within it in the engine's
+            // own f64 (f32's rounding).
             return Err(GpuError::BlowUp {
                 step: self.start_step + u64::from(blew_up),
                 stable_dt: self.stable_dt,

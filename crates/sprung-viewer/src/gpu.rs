@@ -49,8 +49,14 @@ struct OnGpu {
     world: GpuWorld,
     dt: Real,
     read: (Vec<Vec3>, Vec<Vec3>),
-    /// A read-back is on its way.
-    reading: bool,
+}
+
+impl OnGpu {
+    /// Whether `world` is as the GPU last left it (the window changed
+    /// nothing since).
+    fn untouched(&self, world: &World) -> bool {
+        self.read.0 == world.particles.position && self.read.1 == world.particles.velocity
+    }
 }
 
 /// Say `message` where the viewer's notes go (the terminal, or the
@@ -168,7 +174,7 @@ impl GpuRun {
             return None;
         }
         self.lacked = None;
-        if self.on_gpu.as_ref().is_some_and(|on| on.reading) {
+        if self.on_gpu.as_ref().is_some_and(|on| on.world.is_reading()) {
             match self.land(world) {
                 Some(Ok(())) => {}
                 Some(Err(failure)) => return Some(Err(failure)),
@@ -179,11 +185,7 @@ impl GpuRun {
             }
         }
         let current = !self.stale
-            && self.on_gpu.as_ref().is_some_and(|on| {
-                on.dt == dt
-                    && on.read.0 == world.particles.position
-                    && on.read.1 == world.particles.velocity
-            });
+            && (self.on_gpu.as_ref()).is_some_and(|on| on.dt == dt && on.untouched(world));
         if !current {
             self.stale = false;
             match GpuWorld::in_precision(gpu, world, dt, self.precision) {
@@ -195,7 +197,6 @@ impl GpuRun {
                             world.particles.position.clone(),
                             world.particles.velocity.clone(),
                         ),
-                        reading: false,
                     });
                 }
                 Err(error) => return Some(Err(format!("the GPU step: {error}"))),
@@ -205,7 +206,6 @@ impl GpuRun {
         self.stepping = true;
         on.world.step(steps as u64);
         on.world.request_read();
-        on.reading = true;
         #[cfg(not(target_arch = "wasm32"))]
         {
             if let Err(error) = on.world.wait() {
@@ -227,8 +227,7 @@ impl GpuRun {
         if !on.world.read_ready() {
             return None;
         }
-        on.reading = false;
-        if on.read.0 != world.particles.position || on.read.1 != world.particles.velocity {
+        if !on.untouched(world) {
             self.on_gpu = None;
             return Some(Ok(()));
         }
