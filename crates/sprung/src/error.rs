@@ -458,6 +458,29 @@ pub enum StepError {
         /// The most sweeps it may take (`constraint_iterations`).
         iterations: u32,
     },
+    /// The guarantee that no particle passes through a surface could not
+    /// clear a step's collisions within its budget
+    /// ([`crate::contact::ccd::work_budget`]): bodies that start the step
+    /// overlapping, or move far into each other in it, collide everywhere.
+    /// The state is that of the step before the guarantee: the run must
+    /// stop.
+    #[error("step {step} (t = {} s): the guarantee that no particle passes through a surface could not clear the collisions of {bodies} within its budget ({work} tests and zone moves, at most {budget} a step; {collisions} collisions left after {rounds} rounds): lower `dt`, start the bodies apart (`sprung check` warns of bodies that start overlapping), or turn the guarantee off (`[contact] ccd = false`)", Seconds(*time))]
+    GuaranteeOverBudget {
+        /// Number of the step that failed (1 = first step).
+        step: u64,
+        /// Simulated time at the end of that step (s).
+        time: Real,
+        /// The bodies of the collisions left, in words: `"ball", "cloth"`.
+        bodies: String,
+        /// The work done (narrow tests and particles moved in zones).
+        work: u64,
+        /// The most a step may do.
+        budget: u64,
+        /// Collisions left.
+        collisions: usize,
+        /// Rounds of impulses and zones taken.
+        rounds: usize,
+    },
     /// The state became non-finite or ran away: the run must stop.
     #[error("simulation blew up at step {step} (t = {} s): particle {particle} ({body}) {reason}; {}", Seconds(*time), advice(*dt, *stable_dt))]
     BlowUp {
@@ -548,6 +571,18 @@ pub enum BlowUpReason {
     TooFar(Real),
     /// Speed above the world's limit (m/s).
     TooFast(Real),
+    /// In one step, moved `stray` (m) against its body's mean move,
+    /// farther than [`crate::world::RUNAWAY_SIZES`] times the body's `size`
+    /// (m, its extent at the start of the step, or the contact thickness
+    /// for a smaller body): found before
+    /// the guarantee that no particle passes through a surface, whose
+    /// work grows with the motion.
+    OutOfShape {
+        /// How far it moved against its body's mean move (m).
+        stray: Real,
+        /// Its body's size (m).
+        size: Real,
+    },
 }
 
 impl std::fmt::Display for BlowUpReason {
@@ -556,6 +591,11 @@ impl std::fmt::Display for BlowUpReason {
             BlowUpReason::NonFinite => write!(f, "has a non-finite position or velocity"),
             BlowUpReason::TooFar(d) => write!(f, "ran away to {d:.3e} m from the origin"),
             BlowUpReason::TooFast(v) => write!(f, "ran away at {v:.3e} m/s"),
+            BlowUpReason::OutOfShape { stray, size } => write!(
+                f,
+                "moved {stray:.3e} m against the rest of its body in one step, more than {} times the body's size {size:.3e} m",
+                crate::world::RUNAWAY_SIZES
+            ),
         }
     }
 }

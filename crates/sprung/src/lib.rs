@@ -47,6 +47,7 @@ pub mod error;
 pub mod forces;
 pub mod gas;
 pub mod integrate;
+pub mod interrupt;
 pub mod join;
 pub mod limits;
 pub mod measure;

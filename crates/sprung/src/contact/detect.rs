@@ -53,6 +53,9 @@ pub(super) struct Scratch {
     /// meet its ball: `near[near_start[b]..near_start[b + 1]]`.
     near_start: Vec<u32>,
     near: Vec<u32>,
+    /// Per body, the last body (plus one) whose near bodies it was found
+    /// among: each is listed once without searching the list (scratch).
+    near_seen: Vec<u32>,
     /// The grown bounding box of each element being searched.
     boxes: Vec<(Vec3, Vec3)>,
     /// Buffers to put the particle–element pairs in order.

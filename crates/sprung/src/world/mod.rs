@@ -54,6 +54,7 @@ mod state;
 mod step;
 
 pub use dynamics::Dynamics;
+pub use guarantee::RUNAWAY_SIZES;
 pub use observe::PLASTIC;
 
 /// The approach speed (m/s) below which a rigid body's contact with a
@@ -185,6 +186,8 @@ pub struct World {
     ccd_start: Vec<Vec3>,
     /// What the guarantee did in the last step.
     last_ccd: CcdReport,
+    /// Why this step's guarantee stopped short, if it did.
+    ccd_stop: Option<guarantee::CcdStop>,
     /// What the rods' projection did in the last step.
     last_rods: RodReport,
     constraint_stats: ConstraintStats,
@@ -250,6 +253,7 @@ impl World {
             rod_scratch: Vec::new(),
             ccd_start: Vec::new(),
             last_ccd: CcdReport::default(),
+            ccd_stop: None,
             last_rods: RodReport::default(),
             constraint_stats: ConstraintStats::default(),
             integrator: integrator.create(),

@@ -103,6 +103,45 @@ impl World {
         count
     }
 
+    /// The pairs of bodies that are pressed into each other: with more
+    /// than half the contact thickness of theirs overlapping (a particle
+    /// nearer than half the thickness to the other's surface, or inside
+    /// it), at the current state. The first `most` pairs found, each
+    /// `(a, b, particles)` with the bodies' indices (`a < b`, or `a == b`
+    /// for a body folded into itself) and how many of its particles are
+    /// that deep, in the bodies' order; then how many more particles are
+    /// that deep in other pairs. At the start of a run, the guarantee
+    /// sees such bodies collide at every step until they part, and their
+    /// contact pushes them apart at once.
+    pub fn overlapping_bodies(&self, most: usize) -> (Vec<(usize, usize, usize)>, usize) {
+        let half = 0.5 * self.contacts.settings.thickness;
+        let body_of = |p: u32| {
+            let p = p as usize;
+            self.bodies.partition_point(|b| b.particles.end <= p)
+        };
+        let (mut pairs, mut others) = (Vec::<(usize, usize, usize)>::new(), 0);
+        self.contacts_now().pairs.for_each_touch(
+            &self.particles.position,
+            self.contacts.settings.thickness,
+            |touch| {
+                if touch.depth <= half || touch.count == 0 {
+                    return;
+                }
+                let first = body_of(touch.particles[0]);
+                let second = body_of(touch.particles[touch.count - 1]);
+                let key = (first.min(second), first.max(second));
+                let full = pairs.len() >= most;
+                match pairs.iter_mut().find(|(a, b, _)| (*a, *b) == key) {
+                    Some(pair) => pair.2 += 1,
+                    None if !full => pairs.push((key.0, key.1, 1)),
+                    None => others += 1,
+                }
+            },
+        );
+        pairs.sort_unstable();
+        (pairs, others)
+    }
+
     /// The contact state to measure the current state with: the world's
     /// own once a step has run (its last detect stage covers the state the
     /// step ended in), and before the first step a detect stage run now on

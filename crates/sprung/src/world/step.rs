@@ -91,6 +91,7 @@ impl World {
         let mut report = StepReport::default();
         let guarded = self.mark_guarded();
         let mut ccd = CcdReport::default();
+        self.ccd_stop = None;
         for _ in 0..substeps {
             if guarded {
                 self.ccd_start.clone_from(&self.particles.position);
@@ -102,6 +103,10 @@ impl World {
             self.stage(Stage::Constrain, |w| w.constrain(h));
             self.stage(Stage::Give, World::give);
             ccd = ccd.then(self.stage(Stage::Ccd, |w| w.guarantee(h)));
+            if self.ccd_stop.is_some() {
+                // The guard stage stops the run on it.
+                break;
+            }
         }
         self.last_ccd = ccd;
         if substeps > 1 {
@@ -169,6 +174,9 @@ impl World {
             }
         }
         self.guard(dt)?;
+        if let Some(stop) = self.ccd_stop.take() {
+            return Err(self.ccd_error(stop, dt));
+        }
         self.check_rods()
     }
 

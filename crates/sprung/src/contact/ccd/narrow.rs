@@ -108,6 +108,21 @@ fn cubic_roots(c: [Real; 4]) -> ([Real; 3], usize) {
     (roots, found)
 }
 
+/// The times a test looks at: the roots in `(0, 1]` of its coplanarity
+/// (the first `count` of `roots`), then the end of the step. A root at the
+/// very start is no crossing: the elements start the step on one plane
+/// (as layers that started within the gap of each other), and which side
+/// they are on is where they end; looking there would find the same
+/// collision at every round however far the impulses part them, and
+/// every such layer would go to the impact zones.
+fn crossing_times(roots: [Real; 3], count: usize) -> impl Iterator<Item = Real> {
+    roots
+        .into_iter()
+        .take(count)
+        .filter(|&t| t > 0.0)
+        .chain(std::iter::once(1.0))
+}
+
 /// Positions and displacements (m) of the points of a test.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Moving<const N: usize> {
@@ -185,7 +200,7 @@ pub(super) fn point_triangle(m: &Moving<4>, particles: [u32; 4], gap: Real) -> O
     let coefficients = coplanarity(&ordered);
     let side0 = coefficients[0];
     let (roots, count) = cubic_roots(coefficients);
-    let times = roots.into_iter().take(count).chain(std::iter::once(1.0));
+    let times = crossing_times(roots, count);
     for t in times {
         let [p, a, b, c] = m.at(t);
         let [u, v, w] = closest_on_triangle(p, a, b, c);
@@ -224,7 +239,7 @@ pub(super) fn edge_edge(m: &Moving<4>, particles: [u32; 4], gap: Real) -> Option
     }
     let coefficients = coplanarity(m);
     let (roots, count) = cubic_roots(coefficients);
-    let times = roots.into_iter().take(count).chain(std::iter::once(1.0));
+    let times = crossing_times(roots, count);
     for t in times {
         let [p1, q1, p2, q2] = m.at(t);
         let (s, r) = closest_between_segments(p1, q1, p2, q2);
@@ -234,12 +249,27 @@ pub(super) fn edge_edge(m: &Moving<4>, particles: [u32; 4], gap: Real) -> Option
         }
         // Along the edges' common normal where they are not parallel,
         // else along the line between their closest points at the start.
+        // The side is the one the first edge started on; where the edges
+        // started crossing each other (layers that start within the gap),
+        // where it ends the step, as for a point on a triangle's plane.
         let [s1, e1, s2, e2] = m.start;
         let (a0, b0) = (s1 + s * (e1 - s1), s2 + r * (e2 - s2));
+        let [f1, g1, f2, g2] = m.at(1.0);
+        let (a1, b1) = (f1 + s * (g1 - f1), f2 + r * (g2 - f2));
         let normal = (q1 - p1)
             .cross(q2 - p2)
             .try_normalize()
-            .map(|n| if n.dot(a0 - b0) < 0.0 { -n } else { n })
+            .map(|n| {
+                let side = match n.dot(a0 - b0) {
+                    0.0 => n.dot(a1 - b1),
+                    side => side,
+                };
+                if side < 0.0 {
+                    -n
+                } else {
+                    n
+                }
+            })
             .or_else(|| (a0 - b0).try_normalize())
             .or_else(|| (c1 - c2).try_normalize())?;
         return Some(Hit {
@@ -264,7 +294,7 @@ pub(super) fn point_segment(m: &Moving<3>, particles: [u32; 3], gap: Real) -> Op
     let cross = |x: Vec3, y: Vec3| x.x * y.y - x.y * y.x;
     let c = [cross(e, d), cross(e, g) + cross(f, d), cross(f, g), 0.0];
     let (roots, count) = cubic_roots(c);
-    let times = roots.into_iter().take(count).chain(std::iter::once(1.0));
+    let times = crossing_times(roots, count);
     for t in times {
         let [p, a, b] = m.at(t);
         let s = closest_on_segment(p, a, b);

@@ -106,9 +106,12 @@ impl Scratch {
         self.near_start.clear();
         self.near.clear();
         self.near_start.push(0);
+        self.near_seen.clear();
+        self.near_seen.resize(bodies.len(), 0);
         for (b, body) in bodies.iter().enumerate() {
             if colliding(body) {
                 let (grid, near, boxes) = (&self.grid, &mut self.near, &self.body_box);
+                let seen = &mut self.near_seen;
                 let balls = &self.body_ball;
                 // Each ball holds its body's particles, and so its
                 // elements, with the reach to spare: a point of one body
@@ -119,14 +122,17 @@ impl Scratch {
                     let (other_centre, other_radius) = balls[other];
                     centre.distance(other_centre) < radius + other_radius
                 };
-                let start = near.len();
+                // A body is listed once, where the grid first gives it
+                // (it may come once per cell the two share).
+                let mark = b as u32 + 1;
                 grid.query(boxes[b].0, boxes[b].1, |other| {
-                    let other_body = &bodies[other as usize];
-                    if other as usize != b
-                        && colliding(other_body)
+                    if other as usize == b || seen[other as usize] == mark {
+                        return;
+                    }
+                    seen[other as usize] = mark;
+                    if colliding(&bodies[other as usize])
                         && overlap(boxes[b], boxes[other as usize])
                         && balls_meet(other as usize)
-                        && !near[start..].contains(&other)
                     {
                         near.push(other);
                     }

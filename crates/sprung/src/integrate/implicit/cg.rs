@@ -151,6 +151,11 @@ impl ConjugateGradient {
         let mut residual = 1.0;
         let mut iterations = 0;
         while iterations < limits.max_iterations {
+            // Asked to stop (`crate::interrupt`): the solution so far, as
+            // at the iteration limit.
+            if iterations > 0 && crate::interrupt::requested() {
+                break;
+            }
             operator.apply(&self.direction, &mut self.product);
             filter(&mut self.product, &limits);
             let curvature = dot(&self.direction, &self.product);

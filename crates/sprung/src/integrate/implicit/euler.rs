@@ -231,6 +231,11 @@ impl Integrator for ImplicitEuler {
         // colliders and the gas schedule have got to.
         let time = time + dt;
         for newton in 0..solver.newton_iterations {
+            // Asked to stop (`crate::interrupt`): the iterate so far.
+            if newton > 0 && crate::interrupt::requested() {
+                report.unconverged = true;
+                break;
+            }
             system.force(time, position, velocity, &mut self.force);
             let state = State {
                 time,
@@ -321,7 +326,9 @@ impl Integrator for ImplicitEuler {
                 &settings,
                 release,
             )?;
-            if trial.is_some() && solved.unconverged {
+            // A trial cut short by a stop (`crate::interrupt`) says nothing
+            // of Jacobi's cost: the choice waits for a whole one.
+            if trial.is_some() && solved.unconverged && !crate::interrupt::requested() {
                 // Jacobi would cost more than the factor: take the factor,
                 // from this solve on.
                 self.factored = true;

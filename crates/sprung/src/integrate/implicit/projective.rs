@@ -136,6 +136,12 @@ impl Integrator for Projective {
         };
         let time = time + dt;
         for iteration in 0..solver.iterations {
+            // Asked to stop (`crate::interrupt`): the iterate so far.
+            if iteration > 0 && crate::interrupt::requested() {
+                report.iterations = Some(iteration);
+                report.unconverged = true;
+                break;
+            }
             finite_difference(position, &self.start_position, dt, velocity);
             system.force(time, position, velocity, &mut self.force);
             let mass = system.mass();
