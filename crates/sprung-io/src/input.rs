@@ -10,6 +10,8 @@
 use std::io::Read;
 use std::path::Path;
 
+use crate::scene::{scene_text, SceneError};
+
 /// The largest input file read by default (bytes): 256 MiB, far above
 /// any scene or mesh the demos use (the 4002-vertex horse is 0.3 MB).
 pub const DEFAULT_MAX_INPUT_BYTES: u64 = 256 << 20;
@@ -66,4 +68,53 @@ pub fn read_input(path: &Path, default: u64) -> std::io::Result<Vec<u8>> {
         return Err(too_large(bytes.len() as u64));
     }
     Ok(bytes)
+}
+
+/// The one gate every door reads a scene file through (the command line,
+/// Python's `load`, `run` and `sweep`, the sweep's workers): the text of
+/// the regular file at `path`, at most [`max_input_bytes`] of
+/// [`DEFAULT_MAX_SCENE_BYTES`], UTF-8; refused with the same words
+/// whichever door asked (a device such as `/dev/zero`, a FIFO, a folder, a
+/// file too large, bytes that are not UTF-8).
+pub fn read_scene_file(path: &Path) -> Result<String, SceneError> {
+    let bytes = read_input(path, DEFAULT_MAX_SCENE_BYTES)
+        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    Ok(scene_text(&bytes, path)?.to_string())
+}
+
+/// A scene read from a stream (standard input), named `name` in errors:
+/// at most [`max_input_bytes`] of [`DEFAULT_MAX_SCENE_BYTES`], UTF-8.
+pub fn read_scene_stream(stream: impl Read, name: &Path) -> Result<String, SceneError> {
+    let unreadable =
+        |e: std::io::Error| SceneError::new(name, None, format!("cannot read the scene: {e}"));
+    let limit = max_input_bytes(DEFAULT_MAX_SCENE_BYTES).map_err(unreadable)?;
+    let mut bytes = Vec::new();
+    stream
+        .take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(unreadable)?;
+    if bytes.len() as u64 > limit {
+        return Err(unreadable(too_large_scene(limit)));
+    }
+    Ok(scene_text(&bytes, name)?.to_string())
+}
+
+/// Refuse a scene given as text in memory (Python's `loads`, a sweep's
+/// scene) that is longer than a scene file may be, with the words a file
+/// gets; `name` names it in errors.
+pub fn check_scene_text(text: &str, name: &Path) -> Result<(), SceneError> {
+    let refuse =
+        |e: std::io::Error| SceneError::new(name, None, format!("cannot read the scene: {e}"));
+    let limit = max_input_bytes(DEFAULT_MAX_SCENE_BYTES).map_err(refuse)?;
+    if text.len() as u64 > limit {
+        return Err(refuse(too_large_scene(limit)));
+    }
+    Ok(())
+}
+
+/// The error of a scene over `limit` bytes.
+fn too_large_scene(limit: u64) -> std::io::Error {
+    std::io::Error::other(format!(
+        "more than the {limit} bytes a scene may have (set {MAX_INPUT_VARIABLE} to raise the limit)"
+    ))
 }

@@ -3,7 +3,7 @@
 //! "Usage").
 
 use std::fs::File;
-use std::io::{self, BufRead, BufReader, Write};
+use std::io::{self, BufRead, BufReader};
 use std::path::Path;
 
 use sprung::World;
@@ -60,7 +60,11 @@ impl Diagnostics {
     /// Start `path` with the header for `world`'s bodies and the `probes`
     /// (particle indices, which the caller has checked).
     pub fn create(path: &Path, world: &World, probes: &[usize]) -> io::Result<Self> {
-        Self::start(Sink::File(AtomicFile::create(path)?), world, probes)
+        Self::start(
+            Sink::File(RowFile::new(AtomicFile::create(path)?)),
+            world,
+            probes,
+        )
     }
 
     /// The same table kept in memory, for a program that reads the rows
@@ -83,7 +87,7 @@ impl Diagnostics {
     }
 
     fn start(mut file: Sink, world: &World, probes: &[usize]) -> io::Result<Self> {
-        writeln!(file, "{}", header(world, probes))?;
+        file.line(&header(world, probes))?;
         Ok(Diagnostics {
             file,
             probes: probes.to_vec(),
@@ -176,7 +180,7 @@ impl Diagnostics {
                     diagnostics.rows
                 )));
             };
-            writeln!(diagnostics.file, "{line}")?;
+            diagnostics.file.line(&line)?;
             diagnostics.rows += 1;
             let time = line.split(',').nth(1).and_then(|t| t.parse().ok());
             diagnostics.times.push(time.unwrap_or(f64::NAN));
@@ -264,7 +268,7 @@ impl Diagnostics {
         if let Some(bad) = bad {
             return Err(io::Error::new(io::ErrorKind::InvalidData, bad));
         }
-        writeln!(self.file, "{row}")?;
+        self.file.line(&row)?;
         self.rows += 1;
         self.times.push(world.time());
         Ok(())
@@ -290,8 +294,21 @@ impl Diagnostics {
     /// Finish the file and move it into place (nothing to do in memory).
     pub fn finish(self) -> io::Result<()> {
         match self.file {
-            Sink::File(file) => file.commit(),
+            Sink::File(file) => file.finish(),
             Sink::Memory(_) => Ok(()),
+        }
+    }
+
+    /// Finish the file after a failure (a write of a row, a frame or a
+    /// checkpoint that failed): the rows that reach the file are moved into
+    /// place, whole, and a row cut short by the failure is cut off.
+    /// Returns the rows kept (of a resumed run's too), at most
+    /// [`Diagnostics::rows`].
+    pub fn keep(self) -> io::Result<usize> {
+        match self.file {
+            // The header is a line too: rows kept are the lines after it.
+            Sink::File(file) => Ok(file.keep()?.saturating_sub(1)),
+            Sink::Memory(_) => Ok(self.rows),
         }
     }
 }
@@ -299,15 +316,20 @@ impl Diagnostics {
 /// Where the table's rows go: a file (complete or not at all) or memory.
 #[derive(Debug)]
 enum Sink {
-    File(AtomicFile),
+    File(RowFile),
     Memory(Vec<u8>),
 }
 
-impl Write for Sink {
-    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+impl Sink {
+    /// Append `line` (the header or a row, without its newline).
+    fn line(&mut self, line: &str) -> io::Result<()> {
         match self {
-            Sink::File(file) => file.write(buf),
-            Sink::Memory(bytes) => bytes.write(buf),
+            Sink::File(file) => file.line(line),
+            Sink::Memory(bytes) => {
+                bytes.extend_from_slice(line.as_bytes());
+                bytes.push(b'\n');
+                Ok(())
+            }
         }
     }
 
@@ -316,6 +338,91 @@ impl Write for Sink {
             Sink::File(file) => file.flush(),
             Sink::Memory(_) => Ok(()),
         }
+    }
+}
+
+/// Lines gathered before they are written through (bytes): the 8 KiB a
+/// buffered file writes at a time.
+const PENDING_BYTES: usize = 8 << 10;
+
+/// A table's temporary file, written a few lines at a time, that knows
+/// how many of its bytes are in the file: a failure leaves whole lines.
+#[derive(Debug)]
+struct RowFile {
+    file: AtomicFile,
+    /// Lines not yet written, each ending in a newline.
+    pending: Vec<u8>,
+    /// Where each pending line ends in `pending`.
+    ends: Vec<usize>,
+    /// Bytes in the file, all of them whole lines, and those lines.
+    written: u64,
+    lines: usize,
+    /// A write failed: nothing more is written (what it left past
+    /// `written` is cut off by [`RowFile::keep`]).
+    failed: bool,
+}
+
+impl RowFile {
+    fn new(file: AtomicFile) -> Self {
+        RowFile {
+            file,
+            pending: Vec::new(),
+            ends: Vec::new(),
+            written: 0,
+            lines: 0,
+            failed: false,
+        }
+    }
+
+    fn line(&mut self, line: &str) -> io::Result<()> {
+        self.pending.extend_from_slice(line.as_bytes());
+        self.pending.push(b'\n');
+        self.ends.push(self.pending.len());
+        if self.pending.len() >= PENDING_BYTES {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        if self.pending.is_empty() {
+            return Ok(());
+        }
+        if self.failed {
+            return Err(io::Error::other("an earlier write to this table failed"));
+        }
+        if let Err(e) = self.file.write_through(&self.pending) {
+            self.failed = true;
+            return Err(e);
+        }
+        self.written += self.pending.len() as u64;
+        self.lines += self.ends.len();
+        self.pending.clear();
+        self.ends.clear();
+        Ok(())
+    }
+
+    fn finish(mut self) -> io::Result<()> {
+        self.flush()?;
+        self.file.commit()
+    }
+
+    /// Write the pending lines one at a time up to the first that fails,
+    /// then move the file into place with the whole lines written; returns
+    /// how many lines it holds.
+    fn keep(mut self) -> io::Result<usize> {
+        let mut from = 0;
+        for &end in &self.ends {
+            if self.failed || self.file.write_through(&self.pending[from..end]).is_err() {
+                self.failed = true;
+                break;
+            }
+            self.written += (end - from) as u64;
+            self.lines += 1;
+            from = end;
+        }
+        self.file.commit_truncated(self.written)?;
+        Ok(self.lines)
     }
 }
 

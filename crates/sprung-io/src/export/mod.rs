@@ -23,7 +23,7 @@ mod vtu;
 mod vtu_read;
 
 pub use animation::Animation;
-pub use atomic::AtomicFile;
+pub use atomic::{partial_path, replaceable, AtomicFile};
 pub use diagnostics::{energy_columns, Diagnostics, NotFiniteValue, Real};
 pub use frame::CellKind;
 pub use series::{series_path, write_series};

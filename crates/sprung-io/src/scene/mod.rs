@@ -28,8 +28,9 @@ mod wind;
 
 pub use error::SceneError;
 pub use overrides::{
-    apply_overrides, load_scene_overridden, overridden_table, parse_scene_overridden, scene_toml,
-    Override, OverrideError,
+    apply_overrides, check_text_depth, check_value_depth, load_scene_overridden, overridden_table,
+    parse_scene_overridden, scene_toml, Override, OverrideError, MAX_KEY_BYTES, MAX_KEY_PARTS,
+    MAX_VALUE_DEPTH,
 };
 pub use sim::Device;
 
@@ -42,7 +43,7 @@ use sprung::{BuildError, JoinData, JoinEnd, Real, Vec3, World};
 use error::{line_of, line_of_entry, line_of_key};
 use interactions::{collider, contact, gravitation};
 use read::{body_section, parse_toml};
-use sections::Sections;
+use sections::{Lines, Sections};
 use sim::{apply_settings, solver_settings, timing};
 use sprung::error::Readable;
 use tables::{BodyTable, SceneFile};
@@ -148,10 +149,8 @@ pub struct SceneCamera {
 /// assert!(error.to_string().contains("cannot read the scene file"), "{error}");
 /// ```
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = crate::input::read_input(path, crate::input::DEFAULT_MAX_SCENE_BYTES)
-        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
-    let text = scene_text(&bytes, path)?;
-    parse_scene(text, path)
+    let text = crate::input::read_scene_file(path)?;
+    parse_scene(&text, path)
 }
 
 /// The scene file's bytes as text; not UTF-8 is refused with the line
@@ -233,16 +232,31 @@ pub fn parse_scene_with(
     path: &Path,
     files: &dyn FileSource,
 ) -> Result<Scene, SceneError> {
+    crate::input::check_scene_text(text, path)?;
+    // The TOML reader recurses: nesting is bounded before it reads.
+    if let Some(at) = overrides::too_deep_at(text) {
+        let message = format!(
+            "arrays or tables nest more than {MAX_VALUE_DEPTH} deep here, the most a value may"
+        );
+        return Err(SceneError::new(path, Some(line_of(text, at)), message));
+    }
     // Parsed one body at a time (see `sections`): the rest first, then
     // each `[[body]]` section, built into the world and dropped.
     let sections = Sections::find(text);
     let file: SceneFile = parse_toml(&sections.without_bodies(text), 0, text, path)?;
     let sim_span = file.sim.span();
+    // The lines before a table are counted once, on from the last table
+    // placed: the bodies' warnings come in the file's order, and counting
+    // from the top for each was quadratic in the bodies.
+    let lines = Lines::new(text);
     let at = |span: std::ops::Range<usize>, key: &str, message: String| {
         let keys = body::aliases(key);
-        let line = line_of_entry(text, span.start, &keys, &message)
-            .or_else(|| line_of_key(text, span.start, &keys))
-            .unwrap_or_else(|| line_of(text, span.start));
+        let (base, before) = lines.line_start(span.start);
+        let (part, start) = (&text[base..], span.start.min(text.len()) - base);
+        let line = before
+            + line_of_entry(part, start, &keys, &message)
+                .or_else(|| line_of_key(part, start, &keys))
+                .unwrap_or_else(|| line_of(part, start));
         SceneError::new(path, Some(line), message).with_key(key)
     };
     let sim = file.sim.get_ref();

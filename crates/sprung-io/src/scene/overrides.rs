@@ -22,6 +22,18 @@ use super::{parse_scene_with, Disk, FileSource, Scene, SceneError};
 /// element of (never created by an override: a missing one is empty).
 const ARRAYS: [(&str, &str); 2] = [("body", "bodies"), ("collider", "colliders")];
 
+/// The most dotted parts a key may have: the deepest key of a scene
+/// (`body.NAME.gas.schedule.0.1`) has 6.
+pub const MAX_KEY_PARTS: usize = 32;
+
+/// The most bytes a key may have.
+pub const MAX_KEY_BYTES: usize = 4096;
+
+/// The most levels of arrays and inline tables a value may nest (an
+/// override's value, and every value of a scene file): a scene's deepest
+/// (a body's `particles`, a list of points) has 2.
+pub const MAX_VALUE_DEPTH: usize = 32;
+
 /// One override of a scene's key: `KEY=VALUE`.
 ///
 /// ```
@@ -85,6 +97,7 @@ impl Override {
     /// (not the override, which the caller names).
     pub fn apply(&self, scene: &mut Table) -> Result<(), String> {
         let parts = key_parts(&self.key)?;
+        check_value_depth(&self.value)?;
         set_in_table(scene, &parts, 0, self.value.clone())
     }
 }
@@ -119,6 +132,8 @@ impl FromStr for Override {
                 "the value of `{key}` is empty: give a TOML value (`1e-4`, `true`, `\"rk4\"`, `[0, 1, 0]`)"
             )));
         }
+        // Nesting is counted before the TOML reader, which recurses.
+        check_text_depth(value).map_err(refuse)?;
         let value = match value.parse::<Value>() {
             Ok(value) => value,
             Err(_) if is_bare_word(value) => Value::String(value.to_string()),
@@ -131,6 +146,79 @@ impl FromStr for Override {
         };
         Ok(Override::new(key, value))
     }
+}
+
+/// Refuse `value` where it nests arrays and tables deeper than
+/// [`MAX_VALUE_DEPTH`] (counted without recursion, so that no depth
+/// overflows the stack).
+pub fn check_value_depth(value: &Value) -> Result<(), String> {
+    let mut stack = vec![(value, 0_usize)];
+    while let Some((value, depth)) = stack.pop() {
+        let children: Box<dyn Iterator<Item = &Value>> = match value {
+            Value::Array(items) => Box::new(items.iter()),
+            Value::Table(table) => Box::new(table.values()),
+            _ => continue,
+        };
+        if depth >= MAX_VALUE_DEPTH {
+            return Err(too_deep());
+        }
+        stack.extend(children.map(|child| (child, depth + 1)));
+    }
+    Ok(())
+}
+
+/// Refuse TOML `text` whose brackets and braces (outside strings) nest
+/// deeper than [`MAX_VALUE_DEPTH`], before a reader that recurses sees it.
+pub fn check_text_depth(text: &str) -> Result<(), String> {
+    match too_deep_at(text) {
+        Some(_) => Err(too_deep()),
+        None => Ok(()),
+    }
+}
+
+/// The byte of `text` (TOML) at which its brackets and braces, outside
+/// strings and comments, first nest deeper than [`MAX_VALUE_DEPTH`], if
+/// they do (a table header's brackets close before any value opens).
+pub(super) fn too_deep_at(text: &str) -> Option<usize> {
+    let (mut depth, mut quote, mut escaped) = (0_usize, None, false);
+    let mut comment = false;
+    for (at, c) in text.char_indices() {
+        if comment {
+            comment = c != '\n';
+            continue;
+        }
+        match quote {
+            Some(q) => {
+                if escaped {
+                    escaped = false;
+                } else if c == '\\' && q == '"' {
+                    escaped = true;
+                } else if c == q {
+                    quote = None;
+                }
+            }
+            None => match c {
+                '"' | '\'' => quote = Some(c),
+                '#' => comment = true,
+                '[' | '{' => {
+                    depth += 1;
+                    if depth > MAX_VALUE_DEPTH {
+                        return Some(at);
+                    }
+                }
+                ']' | '}' => depth = depth.saturating_sub(1),
+                _ => {}
+            },
+        }
+    }
+    None
+}
+
+/// The error of a value nested too deep.
+fn too_deep() -> String {
+    format!(
+        "the value nests arrays or tables more than {MAX_VALUE_DEPTH} deep, the most a value may"
+    )
 }
 
 impl fmt::Display for Override {
@@ -152,6 +240,12 @@ fn is_bare_word(value: &str) -> bool {
 fn key_parts(key: &str) -> Result<Vec<String>, String> {
     if key.is_empty() {
         return Err("the key is empty: expected KEY=VALUE (`sim.dt=1e-4`)".into());
+    }
+    if key.len() > MAX_KEY_BYTES {
+        return Err(format!(
+            "the key is {} bytes long, more than the {MAX_KEY_BYTES} a key may have",
+            key.len()
+        ));
     }
     let mut parts = Vec::new();
     let mut rest = key;
@@ -183,6 +277,11 @@ fn key_parts(key: &str) -> Result<Vec<String>, String> {
             }
         };
         parts.push(part.to_string());
+        if parts.len() > MAX_KEY_PARTS {
+            return Err(format!(
+                "the key has more than the {MAX_KEY_PARTS} dotted parts a key may have"
+            ));
+        }
         if after.is_empty() {
             return Ok(parts);
         }
@@ -474,8 +573,6 @@ fn without_line(warning: &str, file: &str) -> String {
 /// Read and build the scene file at `path` with `overrides` applied (see
 /// [`parse_scene_overridden`]); its files are read from the disk.
 pub fn load_scene_overridden(path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
-    let bytes = crate::input::read_input(path, crate::input::DEFAULT_MAX_SCENE_BYTES)
-        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
-    let text = super::scene_text(&bytes, path)?;
-    parse_scene_overridden(text, path, overrides, &Disk)
+    let text = crate::input::read_scene_file(path)?;
+    parse_scene_overridden(&text, path, overrides, &Disk)
 }

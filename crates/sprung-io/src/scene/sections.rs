@@ -5,8 +5,10 @@
 //! top-level header that is not one of the body's own sub-tables
 //! (`[body.gas]`, `[[body.rods]]`); the rest of the file is parsed with
 //! the body sections blanked out (spaces, newlines kept), so every byte
-//! keeps its offset and every error its line.
+//! keeps its offset and every error its line. `Lines` counts the lines
+//! those errors and the bodies' warnings are placed at, once in all.
 
+use std::cell::Cell;
 use std::ops::Range;
 
 use toml_parser::lexer::TokenKind;
@@ -149,5 +151,74 @@ impl Sections {
         }
         // Whole UTF-8 sequences were replaced by ASCII spaces.
         String::from_utf8(bytes).unwrap_or_default()
+    }
+}
+
+/// The lines of a scene's text, counted on from the last place asked
+/// about, so that placing the errors and warnings of the bodies, asked for
+/// in the order of the text (a warning per body), counts each line once in
+/// all rather than all the lines before each.
+#[derive(Debug)]
+pub(crate) struct Lines<'a> {
+    text: &'a str,
+    /// The byte counted up to, the lines before the line that holds it,
+    /// and where that line starts.
+    counted: Cell<(usize, usize, usize)>,
+}
+
+impl<'a> Lines<'a> {
+    pub fn new(text: &'a str) -> Self {
+        Lines {
+            text,
+            counted: Cell::new((0, 0, 0)),
+        }
+    }
+
+    /// Where the line that holds byte `offset` starts, and how many lines
+    /// come before it; a place before the last one asked about is counted
+    /// from the top again.
+    pub fn line_start(&self, offset: usize) -> (usize, usize) {
+        let offset = offset.min(self.text.len());
+        let (mut from, mut lines, mut start) = self.counted.get();
+        if offset < from {
+            (from, lines, start) = (0, 0, 0);
+        }
+        let stretch = &self.text.as_bytes()[from..offset];
+        lines += stretch.iter().filter(|&&b| b == b'\n').count();
+        if let Some(last) = stretch.iter().rposition(|&b| b == b'\n') {
+            start = from + last + 1;
+        }
+        self.counted.set((offset, lines, start));
+        (start, lines)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every place's line start and lines before, asked in order, out of
+    /// order and past the end, are what counting from the top gives; asked
+    /// in order, each call counts on from the last place, so the text is
+    /// read once in all.
+    #[test]
+    fn lines_are_counted_once_on_from_the_last_place() {
+        let text = "[sim]\ndt = 1\n\n[[body]]\r\nname = \"é\"\n\n\nx = 1";
+        let top = |offset: usize| {
+            let before = &text.as_bytes()[..offset.min(text.len())];
+            let start = before
+                .iter()
+                .rposition(|&b| b == b'\n')
+                .map_or(0, |i| i + 1);
+            (start, before.iter().filter(|&&b| b == b'\n').count())
+        };
+        let lines = Lines::new(text);
+        for offset in 0..=text.len() {
+            assert_eq!(lines.line_start(offset), top(offset), "{offset}");
+            assert_eq!(lines.counted.get().0, offset);
+        }
+        for offset in [7, 3, 30, 0, text.len() + 5, 12, 12] {
+            assert_eq!(lines.line_start(offset), top(offset), "{offset}");
+        }
     }
 }
