@@ -15,14 +15,17 @@ mod animation;
 mod atomic;
 mod diagnostics;
 mod frame;
+mod glb;
+mod meshes;
 mod obj;
 mod series;
+mod tearing;
 mod vtk;
 mod vtk_read;
 mod vtu;
 mod vtu_read;
 
-pub use animation::Animation;
+pub use animation::{Animation, FRAMES_PER_MESH};
 pub use atomic::{partial_path, replaceable, AtomicFile};
 pub use diagnostics::{energy_columns, Diagnostics, NotFiniteValue, Real};
 pub use frame::CellKind;
