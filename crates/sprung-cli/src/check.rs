@@ -10,14 +10,16 @@ use sprung::forces::{
 };
 use sprung::world::MAX_SUBSTEPS;
 use sprung::{IntegratorKind, Real, Shape, Substeps, World};
-use sprung_io::{load_scene_overridden, Override};
+use sprung_io::{load_scene_overridden, Device, Override};
 
 use crate::bench::memory;
 use crate::run::CliError;
 
 /// Check the scene at `path` with `overrides` applied: exit status 0 when
-/// it loads, 1 (with the error) when it does not.
-pub fn run(path: &Path, overrides: &[Override]) -> Result<(), CliError> {
+/// it loads, 1 (with the error) when it does not, or when `device` (else
+/// the scene's own `device`) is the GPU step and the GPU step cannot run
+/// it.
+pub fn run(path: &Path, overrides: &[Override], device: Option<Device>) -> Result<(), CliError> {
     let loading = memory::mark();
     let before = memory::in_use();
     let mut scene = load_scene_overridden(path, overrides)?;
@@ -103,12 +105,19 @@ pub fn run(path: &Path, overrides: &[Override]) -> Result<(), CliError> {
     } else {
         println!("  stable step of the explicit integrators: unlimited (nothing stiff)");
     }
-    match sprung_gpu::support::check(world) {
+    let gpu = sprung_gpu::support::check(world);
+    match &gpu {
         Ok(()) => println!("  the GPU step (--device gpu) can run it"),
         Err(sprung_gpu::GpuError::Unsupported(feature)) => {
             println!("  the GPU step (--device gpu) lacks {feature}");
         }
         Err(other) => println!("  the GPU step (--device gpu): {other}"),
+    }
+    // A scene `run` would refuse for its device is refused here too, in
+    // the same words.
+    let device = device.unwrap_or(scene.device);
+    if let (true, Err(error)) = (device.is_gpu(), &gpu) {
+        return Err(crate::on_gpu::failed(error));
     }
     for warning in scene.warnings.iter().chain(&start_warnings(world)) {
         eprintln!("warning: {warning}");
@@ -153,6 +162,7 @@ const STEPS_MEASURED: usize = 2;
 /// `substeps = "auto"` with an integrator it does not split.
 pub fn start_warnings(world: &World) -> Vec<String> {
     let mut warnings = inside_colliders(world);
+    warnings.extend(overlapping(world));
     warnings.extend(windless(world));
     let kind = world.integrator();
     if world.settings.substeps == Substeps::Auto
@@ -169,6 +179,41 @@ pub fn start_warnings(world: &World) -> Vec<String> {
     }
     warnings
 }
+
+/// One warning for each pair of bodies that start pressed into each other
+/// ([`World::overlapping_bodies`]), at most [`MOST_OVERLAP_WARNINGS`],
+/// and one counting the particles of the others.
+fn overlapping(world: &World) -> Vec<String> {
+    let (pairs, others) = world.overlapping_bodies(MOST_OVERLAP_WARNINGS);
+    let thickness = world.contacts.settings.thickness;
+    let named = |b: usize| format!("\"{}\"", world.bodies[b].name);
+    let mut warnings: Vec<String> = pairs
+        .iter()
+        .map(|&(a, b, touches)| {
+            let which = match a == b {
+                true => format!("body {} starts pressed into itself", named(a)),
+                false => format!(
+                    "bodies {} and {} start pressed into each other",
+                    named(a),
+                    named(b)
+                ),
+            };
+            format!(
+                "{which} ({touches} particles nearer than half the contact thickness {} m to a surface, or inside it): their contact pushes them apart at once, and the guarantee that no particle passes through a surface sees them collide at every step until they part, at many times its usual cost (start them apart by the thickness)",
+                Readable(thickness)
+            )
+        })
+        .collect();
+    if others > 0 {
+        warnings.push(format!(
+            "{others} more particles start pressed into other bodies than those of the pairs above"
+        ));
+    }
+    warnings
+}
+
+/// The most pairs of overlapping bodies warned about one by one.
+const MOST_OVERLAP_WARNINGS: usize = 8;
 
 /// One warning naming the bodies that `[wind]` blows on (a `wind_scale`
 /// above zero) but cannot push: wind acts on faces and 2D loops, and a

@@ -1,4 +1,5 @@
-//! SIGINT (Ctrl-C) and SIGTERM: a run stops at the end of its current step,
+//! SIGINT (Ctrl-C) and SIGTERM: a run stops at the end of its current step
+//! (which the engine ends as soon as it validly can, `sprung::interrupt`),
 //! keeps every row and frame it recorded, and exits with the conventional
 //! status 128 + the signal (130, 143). A second signal of either kind ends
 //! the process at once with that status.
@@ -37,6 +38,10 @@ pub fn install() -> bool {
                 signal_hook::flag::register_usize(signal, Arc::clone(&which), signal as usize)
                     .ok()?;
             }
+            // The engine ends the step under way as soon as it validly
+            // can once the flag is up, so the run stops within a fraction
+            // of a second whatever stage it is in.
+            sprung::interrupt::watch(Arc::clone(&any));
             Some(Received { any, which })
         })
         .is_some()

@@ -79,8 +79,12 @@ enum Command {
         intersections: bool,
         /// Set a key of the scene: `sim.dt=1e-4`, `body.NAME.stiffness=200`,
         /// `collider.0.friction=0.5` (repeatable; docs/scenes.md, "Overrides").
-        #[arg(long = "set", value_name = "KEY=VALUE")]
+        #[arg(long = "set", value_name = "KEY=VALUE", value_parser = crate::values::OverrideArg)]
         set: Vec<Override>,
+        /// Check it for this device (cpu, gpu, gpu_f64) instead of the
+        /// scene's `device`: an error where `run` would refuse it there.
+        #[arg(long)]
+        device: Option<Device>,
     },
     /// Draw a scene or a finished run: PNG frames and an animated GIF.
     Render(render::RenderArgs),
@@ -126,7 +130,7 @@ pub struct RunOptions {
     integrator: Option<IntegratorKind>,
     /// Set a key of the scene: `sim.dt=1e-4`, `body.NAME.stiffness=200`,
     /// `collider.0.friction=0.5` (repeatable; docs/scenes.md, "Overrides").
-    #[arg(long = "set", value_name = "KEY=VALUE")]
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = crate::values::OverrideArg)]
     set: Vec<Override>,
     /// Save the world's state to FILE at the end of the run (also when it
     /// is interrupted), to go on later with --resume.
@@ -157,9 +161,10 @@ fn main() -> ExitCode {
     interrupt::quiet_on_broken_pipe();
     // `--threads` may stand before or after the command; given in both
     // places, clap would keep the last without a word.
-    let given = std::env::args()
+    // Arguments are bytes (a file name need not be UTF-8): read as they are.
+    let given = std::env::args_os()
         .take_while(|a| a != "--")
-        .filter(|a| a == "--threads" || a.starts_with("--threads="))
+        .filter(|a| a == "--threads" || a.as_encoded_bytes().starts_with(b"--threads="))
         .count();
     if given > 1 {
         eprintln!(
@@ -196,7 +201,9 @@ fn main() -> ExitCode {
             intersections: true,
             ..
         } => intersections::run(&scene),
-        Command::Check { scene, set, .. } => check::run(&scene, &set),
+        Command::Check {
+            scene, set, device, ..
+        } => check::run(&scene, &set, device),
         Command::Render(args) => render::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::View(args) => view::run(&args),

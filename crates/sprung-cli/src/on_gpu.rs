@@ -47,6 +47,9 @@ pub fn start(scene: &Scene, options: &RunOptions) -> Result<Option<OnGpu>, CliEr
     if options.profile {
         return refuse("--profile times the engine's stages, which the GPU step does not run");
     }
+    // What the scene asks is refused before an adapter is looked for, as
+    // `sprung check` refuses it.
+    sprung_gpu::support::check(&scene.world).map_err(|e| failed(&e))?;
     let gpu = put_on_gpu(&scene.world, scene.dt, device, options.quiet)?;
     Ok(Some(OnGpu {
         gpu,
@@ -56,7 +59,11 @@ pub fn start(scene: &Scene, options: &RunOptions) -> Result<Option<OnGpu>, CliEr
 
 /// A GPU error that is not a blow-up of the run, in words.
 pub fn failed(error: &GpuError) -> CliError {
-    CliError::Input(format!("the GPU step: {error}"))
+    match error {
+        // Its words name the GPU step already.
+        GpuError::Unsupported(_) => CliError::Input(error.to_string()),
+        other => CliError::Input(format!("the GPU step: {other}")),
+    }
 }
 
 /// The precision `device` asks for (f64 for `gpu_f64`).

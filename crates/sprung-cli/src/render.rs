@@ -85,7 +85,7 @@ pub struct RenderArgs {
     device: Option<Device>,
     /// Set a key of a scene: `sim.dt=1e-4`, `body.NAME.stiffness=200`,
     /// `collider.0.friction=0.5` (repeatable; docs/scenes.md, "Overrides").
-    #[arg(long = "set", value_name = "KEY=VALUE")]
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = crate::values::OverrideArg)]
     set: Vec<Override>,
     /// Print nothing but errors and warnings.
     #[arg(long)]

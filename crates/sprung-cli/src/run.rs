@@ -69,16 +69,17 @@ impl From<SceneError> for CliError {
     }
 }
 
-/// A blow-up found while recording (a non-finite number a row would
-/// hold): finish the outputs so far and say where they are kept; any other
-/// error as it is.
+/// A stop while recording: a blow-up (a non-finite number a row would
+/// hold), whose outputs so far are finished; or a write that failed, whose
+/// outputs are kept as far as they were written. Either way the error says
+/// where they are.
 fn kept(stop: CliError, outputs: Outputs, world: &World) -> CliError {
     match stop {
         CliError::BlowUp(error, _) => match outputs.finish(world, 0, false) {
             Ok(place) => CliError::BlowUp(error, format!("kept up to the last good step: {place}")),
             Err(other) => other,
         },
-        other => other,
+        other => outputs.keep(other, world),
     }
 }
 
@@ -168,6 +169,9 @@ pub fn run_scene(
         .chain(copy.into_iter().flat_map(SceneCopy::mesh_sources))
         .chain(options.resume.as_deref())
         .collect();
+    if let Some(copy) = copy {
+        copy.check(out, &inputs)?;
+    }
     let mut outputs = Outputs::open(
         out,
         &scene.world,
@@ -265,7 +269,10 @@ pub fn run_scene(
             }
         }
         if options.checkpoint_every.is_some_and(|k| step % k == 0) && step != steps {
-            outputs.checkpoint(&scene.world)?;
+            if let Err(stop) = outputs.checkpoint(&scene.world) {
+                progress.abandon();
+                return Err(outputs.keep(stop, &scene.world));
+            }
         }
         if step % 256 == 0 || gpu.is_some() {
             progress.set_position(step);

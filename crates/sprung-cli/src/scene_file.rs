@@ -4,15 +4,15 @@
 //! `meshes/`, so that `sprung run OUT/scene.toml` repeats the run from the
 //! folder alone.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use sprung_io::export::AtomicFile;
-use sprung_io::input::{max_input_bytes, read_input, DEFAULT_MAX_SCENE_BYTES};
-use sprung_io::scene::{overridden_table, scene_text, scene_toml};
+use sprung_io::input::{read_scene_file, read_scene_stream};
+use sprung_io::scene::{overridden_table, scene_toml};
 use sprung_io::toml::Value;
-use sprung_io::{parse_scene_overridden, Disk, FileSource, Override, Scene, SceneError};
+use sprung_io::{parse_scene_overridden, Disk, FileSource, Override, Scene};
 
+use crate::outputs::resolved;
 use crate::run::CliError;
 
 /// The name of standard input in messages and as the scene's path.
@@ -51,40 +51,18 @@ impl SceneInput {
                     dir.display()
                 )));
             }
-            let bytes = read_input(path, DEFAULT_MAX_SCENE_BYTES).map_err(|e| {
-                SceneError::new(path, None, format!("cannot read the scene file: {e}"))
-            })?;
+            let text = read_scene_file(path)?;
             return Ok(SceneInput {
-                text: scene_text(&bytes, path)?.to_string(),
+                text,
                 path: path.to_path_buf(),
                 dir: path.parent().unwrap_or(Path::new("")).to_path_buf(),
                 stdin: false,
             });
         }
         let name = Path::new(STDIN);
-        let unreadable = |e: std::io::Error| {
-            SceneError::new(
-                name,
-                None,
-                format!("cannot read the scene from standard input: {e}"),
-            )
-        };
-        let limit = max_input_bytes(DEFAULT_MAX_SCENE_BYTES).map_err(unreadable)?;
-        let mut bytes = Vec::new();
-        std::io::stdin()
-            .lock()
-            .take(limit + 1)
-            .read_to_end(&mut bytes)
-            .map_err(unreadable)?;
-        if bytes.len() as u64 > limit {
-            return Err(unreadable(std::io::Error::other(format!(
-                "more than the {limit} bytes a scene may have (set {} to raise the limit)",
-                sprung_io::input::MAX_INPUT_VARIABLE
-            )))
-            .into());
-        }
+        let text = read_scene_stream(std::io::stdin().lock(), name)?;
         Ok(SceneInput {
-            text: scene_text(&bytes, name)?.to_string(),
+            text,
             path: name.to_path_buf(),
             dir: base_dir.unwrap_or(Path::new("")).to_path_buf(),
             stdin: true,
@@ -182,10 +160,60 @@ impl SceneCopy {
         self.meshes.iter().map(|(source, _)| source.as_path())
     }
 
+    /// Refuse, before anything is written, a copy that would replace one
+    /// of the files the run reads (`inputs`: the scene, its meshes, the
+    /// state it resumes from) with other bytes: `sprung run DIR/scene.toml
+    /// --out DIR` with `--set`, or of a scene with comments and meshes.
+    /// The same bytes (a run's own copy run again into its folder) are
+    /// left as they are.
+    pub fn check(&self, out: &Path, inputs: &[&Path]) -> Result<(), CliError> {
+        let inputs: Vec<PathBuf> = inputs.iter().map(|p| resolved(p)).collect();
+        for (target, source) in self.targets(out) {
+            let target_resolved = resolved(&target);
+            let Some(input) = inputs.iter().find(|input| **input == target_resolved) else {
+                continue;
+            };
+            let bytes = self.bytes(source)?;
+            if Disk.read(&target).ok().as_deref() != Some(bytes.as_slice()) {
+                return Err(CliError::Input(format!(
+                    "--out {}: the run would write its copy of the scene over {}, which it reads, with other bytes ({}): give another --out (nothing was written)",
+                    out.display(),
+                    input.display(),
+                    match source {
+                        Some(_) => "another mesh",
+                        None => "the effective scene: overrides applied, mesh paths pointed into meshes/, comments dropped",
+                    },
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The files the copy writes in `out`, each with the mesh it copies
+    /// (`None` for `scene.toml`).
+    fn targets(&self, out: &Path) -> Vec<(PathBuf, Option<&Path>)> {
+        let meshes = self
+            .meshes
+            .iter()
+            .map(|(source, name)| (out.join("meshes").join(name), Some(source.as_path())));
+        meshes
+            .chain(std::iter::once((out.join("scene.toml"), None)))
+            .collect()
+    }
+
+    /// The bytes of `source` (a mesh), or of `scene.toml` for `None`.
+    fn bytes(&self, source: Option<&Path>) -> Result<Vec<u8>, CliError> {
+        match source {
+            None => Ok(self.text.as_bytes().to_vec()),
+            Some(source) => Disk.read(source).map_err(|e| {
+                CliError::Io(format!("cannot copy the mesh {}: {e}", source.display()))
+            }),
+        }
+    }
+
     /// Write `out/meshes/NAME` for each mesh, then `out/scene.toml`, each
-    /// atomically (a mesh of the scene that is already there, as when the
-    /// run's own copy is run again into its folder, is read whole before
-    /// it is replaced).
+    /// atomically; a file that already holds the same bytes (as when the
+    /// run's own copy is run again into its folder) is left as it is.
     pub fn write(&self, out: &Path) -> Result<(), CliError> {
         let failed = |path: &Path, e: std::io::Error| {
             CliError::Io(format!("cannot write {}: {e}", path.display()))
@@ -193,19 +221,14 @@ impl SceneCopy {
         if !self.meshes.is_empty() {
             let folder = out.join("meshes");
             std::fs::create_dir_all(&folder).map_err(|e| failed(&folder, e))?;
-            for (source, name) in &self.meshes {
-                let bytes = Disk.read(source).map_err(|e| {
-                    CliError::Io(format!(
-                        "cannot copy the mesh {} into {}: {e}",
-                        source.display(),
-                        folder.display()
-                    ))
-                })?;
-                let path = folder.join(name);
-                AtomicFile::write(&path, &bytes).map_err(|e| failed(&path, e))?;
-            }
         }
-        let path = out.join("scene.toml");
-        AtomicFile::write(&path, self.text.as_bytes()).map_err(|e| failed(&path, e))
+        for (path, source) in self.targets(out) {
+            let bytes = self.bytes(source)?;
+            if Disk.read(&path).ok().as_deref() == Some(bytes.as_slice()) {
+                continue;
+            }
+            AtomicFile::write(&path, &bytes).map_err(|e| failed(&path, e))?;
+        }
+        Ok(())
     }
 }

@@ -2,7 +2,11 @@
 //! error (exit status 2, with clap's message naming the option) before
 //! anything runs, like an unparsable one.
 
+use std::ffi::OsStr;
+
+use clap::builder::TypedValueParser;
 use sprung_io::scene::MAX_STEPS;
+use sprung_io::Override;
 use sprung_view::plot;
 use sprung_view::render::{MAX_SIZE, MIN_SIZE};
 
@@ -60,5 +64,41 @@ fn side_within(text: &str, least: u32, most: u32) -> Result<u32, String> {
         Ok(n) if (least..=most).contains(&n) => Ok(n),
         Ok(n) => Err(format!("{n} pixels: from {least} to {most}")),
         Err(_) => Err(format!("`{text}` is not a whole number of pixels")),
+    }
+}
+
+/// The parser of `--set KEY=VALUE`: an override ([`Override`]'s own
+/// parser), refused with the first byte that is not UTF-8 where the
+/// argument is not text (arguments are bytes: no panic on any of them).
+#[derive(Debug, Clone, Copy)]
+pub struct OverrideArg;
+
+impl TypedValueParser for OverrideArg {
+    type Value = Override;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        _arg: Option<&clap::Arg>,
+        value: &OsStr,
+    ) -> Result<Override, clap::Error> {
+        let bytes = value.as_encoded_bytes();
+        if let Err(e) = std::str::from_utf8(bytes) {
+            let at = e.valid_up_to();
+            let message = format!(
+                "invalid value for '--set <KEY=VALUE>': byte {} (0x{:02x}) of `{}` is not UTF-8; a key and its value are text\n",
+                at + 1,
+                bytes[at],
+                value.to_string_lossy()
+            );
+            return Err(
+                clap::Error::raw(clap::error::ErrorKind::InvalidUtf8, message).with_cmd(cmd),
+            );
+        }
+        let text = value.to_string_lossy();
+        text.parse::<Override>().map_err(|e| {
+            let message = format!("invalid value '{text}' for '--set <KEY=VALUE>': {e}\n");
+            clap::Error::raw(clap::error::ErrorKind::ValueValidation, message).with_cmd(cmd)
+        })
     }
 }
