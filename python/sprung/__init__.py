@@ -150,14 +150,21 @@ def run(scene: Union[PathLike, World], steps: Optional[int] = None,
     if out is not None and not isinstance(scene, World):
         # The effective scene beside its diagnostics, as `sprung run` keeps it.
         path = os.fspath(scene)
-        with open(path, encoding="utf-8") as f:
-            text = f.read()
+        # Through the command line's gate, as load reads it.
+        text = _native.read_scene(path)
         effective = _native.effective_scene(text, path, _overrides(set))
         os.makedirs(out, exist_ok=True)
-        partial = os.path.join(out, "scene.toml.partial")
-        with open(partial, "w", encoding="utf-8") as f:
-            f.write(effective)
-        os.replace(partial, os.path.join(out, "scene.toml"))
+        kept = os.path.join(out, "scene.toml")
+        # Never over the scene it reads with other bytes (the overrides
+        # applied, the comments dropped), as `sprung run` refuses.
+        if os.path.exists(kept) and os.path.samefile(kept, path) and text != effective:
+            raise ValueError(
+                f"out={out!r}: the run would write its copy of the scene over {path}, "
+                "which it reads, with other bytes (the effective scene: overrides applied, "
+                "comments dropped): give another out (nothing was written)")
+        if not (os.path.exists(kept) and os.path.samefile(kept, path)):
+            # Whole or not at all, and never through a link, FIFO or device.
+            _native.write_output(kept, effective)
     csv, error = _native.run(target, steps, time, every, integrator, out, format)
     table = Diagnostics(csv)
     if error is not None:

@@ -12,6 +12,9 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+MAX_VALUE_DEPTH: int
+"""The most levels of lists and dicts a ``set=`` value (or a scene's
+value) may nest: 32."""
 
 ArrayLike = Union[npt.ArrayLike, Sequence[Sequence[float]]]
 
@@ -22,6 +25,26 @@ def integrators() -> List[str]:
 
 def load(path: str, set: Optional[List[Tuple[str, object]]] = None) -> "World":
     """Load a scene file (see ``sprung.load``)."""
+
+
+def read_scene(path: str) -> str:
+    """The text of the scene file at ``path`` through the command line's
+    gate: a regular file (not a device, FIFO or folder, also behind a link),
+    at most 16 MiB (``SPRUNG_MAX_INPUT_BYTES`` bytes when set), UTF-8.
+
+    Raises:
+        SceneError: with the words ``sprung run`` prints.
+    """
+
+
+def write_output(path: str, text: str) -> None:
+    """Write ``text`` to the file at ``path`` whole or not at all (under
+    ``PATH.partial``, renamed into place).
+
+    Raises:
+        OSError: it cannot be written, or ``path`` is not a regular file
+            (a link, FIFO, device or folder, which is never replaced).
+    """
 
 
 def loads(text: str, base_dir: Optional[str] = None,

@@ -10,6 +10,7 @@ import json
 import math
 import os
 import shutil
+import stat
 import sys
 import tempfile
 import threading
@@ -49,12 +50,40 @@ def latin_hypercube(ranges: Mapping[str, Tuple[float, float]], samples: int,
     return points
 
 
+def check_nesting(where: str, value: object) -> None:
+    """Refuse ``value`` where its lists, tuples and dicts nest deeper than a
+    scene's value may (``MAX_VALUE_DEPTH``, 32 levels), counted without
+    recursion: a sweep's values are hashed into run ids and written into
+    ``sweep.csv``, and neither may recurse without bound."""
+    limit = _native.MAX_VALUE_DEPTH
+    stack = [(value, 0)]
+    while stack:
+        item, depth = stack.pop()
+        if isinstance(item, np.ndarray):
+            # Its Python form, at the same level (as ``set=`` reads it).
+            stack.append((item.tolist(), depth))
+            continue
+        if isinstance(item, dict):
+            children = item.values()
+        elif isinstance(item, (list, tuple)):
+            children = item
+        else:
+            continue
+        if depth >= limit:
+            raise ValueError(f"{where}: the value nests lists or dicts more than {limit} deep, "
+                             "the most a value may")
+        stack.extend((child, depth + 1) for child in children)
+
+
 def grid_points(grid: Mapping[str, Sequence[object]]) -> List[Dict[str, object]]:
-    """Every combination of the grid's values, the first key slowest."""
+    """Every combination of the grid's values, the first key slowest; a
+    value nested deeper than a scene's value may be is refused."""
     keys = list(grid)
     for key in keys:
         if len(grid[key]) == 0:
             raise ValueError(f"grid {key}: no values")
+        for n, value in enumerate(grid[key]):
+            check_nesting(f"grid {key}: value {n}", value)
     return [dict(zip(keys, values)) for values in itertools.product(*(grid[k] for k in keys))]
 
 
@@ -68,8 +97,12 @@ def run_id(scene_text: str, options: Mapping[str, object]) -> str:
 
 def _finished(folder: str) -> Optional[dict]:
     """The row of a run that ended in ``folder``, or None."""
+    path = os.path.join(folder, RESULT)
     try:
-        with open(os.path.join(folder, RESULT), encoding="utf-8") as f:
+        # A regular file only (a FIFO there would block the open).
+        if not stat.S_ISREG(os.lstat(path).st_mode):
+            return None
+        with open(path, encoding="utf-8") as f:
             return json.load(f)
     except (OSError, ValueError):
         return None
@@ -196,8 +229,9 @@ def sweep(scene, grid=None, samples=None, ranges=None, seed=0, steps=None, time=
         ``error``); a rerun with the same ``out`` skips every run that ended.
     """
     path = os.fspath(scene)
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
+    # Through the command line's gate: a scene that is not a regular file,
+    # too large or not UTF-8 is refused (SceneError) before any run.
+    text = _native.read_scene(path)
     points = grid_points(grid) if grid else [{}]
     if samples is not None or ranges:
         if samples is None or not ranges:
@@ -327,10 +361,8 @@ def write_table(path: str, keys, points, rows) -> None:
         writer.writerow(["" if row.get(c) is None else
                          (repr(row[c]) if isinstance(row[c], float) else row[c]) for c in columns])
     os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
-    partial = path + ".partial"
-    with open(partial, "w", encoding="utf-8") as f:
-        f.write(buffer.getvalue())
-    os.replace(partial, path)
+    # Whole or not at all, and never through a link, FIFO or device.
+    _native.write_output(path, buffer.getvalue())
 
 
 def main(argv=None) -> int:

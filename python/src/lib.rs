@@ -6,6 +6,8 @@
 
 mod batch;
 mod errors;
+mod input;
+mod output;
 mod overrides;
 mod pictures;
 mod run;
@@ -18,11 +20,15 @@ use pyo3::prelude::*;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     sprung::parallel::configure_from_env();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // The most levels of lists and dicts a `set=` value may nest.
+    m.add("MAX_VALUE_DEPTH", sprung_io::scene::MAX_VALUE_DEPTH)?;
     m.add_class::<world::World>()?;
     m.add_class::<world::Body>()?;
     m.add_class::<batch::Batch>()?;
     m.add_function(wrap_pyfunction!(world::load, m)?)?;
     m.add_function(wrap_pyfunction!(world::loads, m)?)?;
+    m.add_function(wrap_pyfunction!(input::read_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(output::write_output, m)?)?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(pictures::animate, m)?)?;
     m.add_function(wrap_pyfunction!(pictures::plot, m)?)?;

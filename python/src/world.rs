@@ -15,19 +15,18 @@ use crate::errors::{bad_value, failed, scene_error, step_error, typed, value};
 use crate::overrides::overrides;
 use crate::sim::{Sim, SIGNAL_CHECK};
 
-/// Read and build the scene file at `path`, with `overrides`.
+/// Read the scene file at `path` through the command line's gate (a
+/// regular file, at most 16 MiB, UTF-8: see [`crate::input::read_scene`])
+/// and build it, with `overrides`.
 pub fn load_sim(py: Python<'_>, path: &Path, overrides: &[Override]) -> PyResult<Sim> {
-    let bytes = std::fs::read(path).map_err(|e| {
-        let error =
-            sprung_io::SceneError::new(path, None, format!("cannot read the scene file: {e}"));
-        scene_error(py, &error)
-    })?;
-    let text = sprung_io::scene::scene_text(&bytes, path).map_err(|e| scene_error(py, &e))?;
-    build_sim(py, text.to_string(), path, overrides)
+    let text = crate::input::read_scene_text(py, path)?;
+    build_sim(py, text, path, overrides)
 }
 
 /// Build the scene `text`, named `path` (its folder anchors mesh paths),
-/// with `overrides`; the Sim keeps the effective text.
+/// with `overrides`; the Sim keeps the effective text. Text longer than a
+/// scene file may be, or nested too deep, is refused before it is parsed
+/// ([`crate::input::check_text`]).
 pub fn build_sim(
     py: Python<'_>,
     text: String,
@@ -35,6 +34,7 @@ pub fn build_sim(
     overrides: &[Override],
 ) -> PyResult<Sim> {
     let built = py.detach(|| {
+        crate::input::check_text(&text, path)?;
         let scene = sprung_io::parse_scene_overridden(&text, path, overrides, &Disk)?;
         let text = match overrides {
             [] => text,
@@ -46,7 +46,8 @@ pub fn build_sim(
     Ok(Sim::new(scene, text))
 }
 
-/// Load the scene file at `path` (TOML) into a World.
+/// Load the scene file at `path` (TOML) into a World, read through the
+/// command line's gate (see [`load_sim`]).
 #[pyfunction]
 #[pyo3(signature = (path, set=None))]
 pub fn load(
@@ -54,11 +55,13 @@ pub fn load(
     path: PathBuf,
     set: Option<Vec<(String, Bound<'_, PyAny>)>>,
 ) -> PyResult<World> {
-    Ok(World::new(load_sim(py, &path, &overrides(set)?)?))
+    let overrides = overrides(py, set, &path)?;
+    Ok(World::new(load_sim(py, &path, &overrides)?))
 }
 
 /// Build a World from scene text; mesh paths are relative to `base_dir`
-/// (default: the current folder).
+/// (default: the current folder). Text longer than a scene file may be
+/// (16 MiB, or `SPRUNG_MAX_INPUT_BYTES`) is refused as a file is.
 #[pyfunction]
 #[pyo3(signature = (text, base_dir=None, set=None, name=None))]
 pub fn loads(
@@ -72,7 +75,8 @@ pub fn loads(
     let path = base_dir
         .unwrap_or_default()
         .join(name.as_deref().unwrap_or("<string>"));
-    Ok(World::new(build_sim(py, text, &path, &overrides(set)?)?))
+    let overrides = overrides(py, set, &path)?;
+    Ok(World::new(build_sim(py, text, &path, &overrides)?))
 }
 
 /// A simulated world: particles joined by springs, bodies, colliders.
