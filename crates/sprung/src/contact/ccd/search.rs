@@ -12,6 +12,9 @@ use crate::{Real, Vec3};
 /// search (the grid's own cap is 16).
 const CELLS_PER_BOX: Real = 15.0;
 
+/// Most pairs of elements searched each with each, without a grid.
+const DIRECT_PAIRS: usize = 256;
+
 /// What a search reads: the elements, their boxes about the anchors
 /// grown by their bodies' margins and their reach (m), where the
 /// particles were at the anchors (m), and the reach (m) of surface pairs
@@ -28,7 +31,8 @@ impl Anchored<'_> {
     /// (the same: of one body with itself) whose distance `d` (m) at the
     /// anchors is within `within` (m, the two margins) and their reach of
     /// each other, in a fixed order: `b`'s element boxes in `grid`, each of
-    /// `a`'s looked up in it. `visit` returns `false` to end the search:
+    /// `a`'s looked up in it (or, for at most `DIRECT_PAIRS` pairs, each
+    /// of `a`'s with each of `b`'s in their order). `visit` returns `false` to end the search:
     /// then so does this; `true` when every pair was visited.
     pub fn each_pair(
         &self,
@@ -54,8 +58,40 @@ impl Anchored<'_> {
         if !(cell > 0.0 && cell.is_finite()) {
             return true;
         }
-        grid.build(cell, sb.clone().map(|e| boxes[e]));
         let (gap, balls) = self.reach;
+        // Visit the pair of elements `e` (of `a`) and `f` (of `b`), whose
+        // boxes overlap: whether the search goes on.
+        let mut meet = |e: usize, f: usize| -> bool {
+            let Some((p, q)) = elements.pair(e, f) else {
+                return true;
+            };
+            let (ep, eq) = (&elements.list[p], &elements.list[q]);
+            let reach = if ep.kind == Kind::Point(true) && eq.kind == Kind::Point(true) {
+                balls
+            } else {
+                gap
+            };
+            let d = distance(ep, eq, self.anchor);
+            d > within + reach || visit(p as u32, q as u32, d)
+        };
+        let overlap = |e: usize, f: usize| {
+            let ((lo, hi), (flo, fhi)) = (boxes[e], boxes[f]);
+            lo.cmple(fhi).all() && flo.cmple(hi).all()
+        };
+        // Few pairs (small bodies, as ropes of a few particles stacked by
+        // the thousand): each with each, cheaper than building a grid.
+        if sa.len() * sb.len() <= DIRECT_PAIRS {
+            for e in sa {
+                let from = if a == b { e + 1 } else { sb.start };
+                for f in from..sb.end {
+                    if overlap(e, f) && !meet(e, f) {
+                        return false;
+                    }
+                }
+            }
+            return true;
+        }
+        grid.build(cell, sb.clone().map(|e| boxes[e]));
         let first = sb.start;
         let going = Cell::new(true);
         for e in sa {
@@ -67,22 +103,8 @@ impl Anchored<'_> {
                 |f| going.get() && f as usize >= skip,
                 |f| {
                     let f = first + f as usize;
-                    let (flo, fhi) = boxes[f];
-                    if !(lo.cmple(fhi).all() && flo.cmple(hi).all()) {
-                        return;
-                    }
-                    let Some((p, q)) = elements.pair(e, f) else {
-                        return;
-                    };
-                    let (ep, eq) = (&elements.list[p], &elements.list[q]);
-                    let reach = if ep.kind == Kind::Point(true) && eq.kind == Kind::Point(true) {
-                        balls
-                    } else {
-                        gap
-                    };
-                    let d = distance(ep, eq, self.anchor);
-                    if d <= within + reach {
-                        going.set(visit(p as u32, q as u32, d));
+                    if overlap(e, f) {
+                        going.set(meet(e, f));
                     }
                 },
             );
