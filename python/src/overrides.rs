@@ -140,7 +140,6 @@ pub fn effective_scene(
 ) -> PyResult<String> {
     let overrides = overrides(py, set, &path)?;
     let refuse = |e: SceneError| scene_error(py, &e);
-    crate::input::check_text(text, &path).map_err(refuse)?;
     let mut table = sprung_io::scene::overridden_table(text, &path, &overrides).map_err(refuse)?;
     if steps.is_some() || time.is_some() || every.is_some() {
         let sim = table

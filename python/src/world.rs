@@ -25,8 +25,8 @@ pub fn load_sim(py: Python<'_>, path: &Path, overrides: &[Override]) -> PyResult
 
 /// Build the scene `text`, named `path` (its folder anchors mesh paths),
 /// with `overrides`; the Sim keeps the effective text. Text longer than a
-/// scene file may be, or nested too deep, is refused before it is parsed
-/// ([`crate::input::check_text`]).
+/// scene file may be, or nested too deep, is refused by the scene reader
+/// before it is parsed.
 pub fn build_sim(
     py: Python<'_>,
     text: String,
@@ -34,7 +34,6 @@ pub fn build_sim(
     overrides: &[Override],
 ) -> PyResult<Sim> {
     let built = py.detach(|| {
-        crate::input::check_text(&text, path)?;
         let scene = sprung_io::parse_scene_overridden(&text, path, overrides, &Disk)?;
         let text = match overrides {
             [] => text,

@@ -572,7 +572,7 @@ pub enum BlowUpReason {
     /// Speed above the world's limit (m/s).
     TooFast(Real),
     /// In one step, moved `stray` (m) against its body's mean move,
-    /// farther than [`crate::world::RUNAWAY_SIZES`] times the body's `size`
+    /// farther than [`crate::contact::ccd::RUNAWAY_SIZES`] times the body's `size`
     /// (m, its extent at the start of the step, or the contact thickness
     /// for a smaller body): found before
     /// the guarantee that no particle passes through a surface, whose
@@ -594,7 +594,7 @@ impl std::fmt::Display for BlowUpReason {
             BlowUpReason::OutOfShape { stray, size } => write!(
                 f,
                 "moved {stray:.3e} m against the rest of its body in one step, more than {} times the body's size {size:.3e} m",
-                crate::world::RUNAWAY_SIZES
+                crate::contact::ccd::RUNAWAY_SIZES
             ),
         }
     }

@@ -35,10 +35,8 @@ pub struct Outputs<'a> {
     animation: Option<Animation>,
     /// Frames written by this process.
     frames: usize,
-    /// States saved at checkpoints.
-    checkpoints: usize,
-    /// The step of the last checkpoint saved.
-    last_checkpoint: u64,
+    /// The step of the last state saved at a checkpoint, if any.
+    last_checkpoint: Option<u64>,
     /// The first frame this process writes (the rows a resumed run kept).
     first_frame: usize,
     options: &'a RunOptions,
@@ -118,8 +116,7 @@ impl<'a> Outputs<'a> {
             format,
             animation: (format == Some(OutputFormat::Gltf)).then(|| Animation::new(world)),
             frames: 0,
-            checkpoints: 0,
-            last_checkpoint: 0,
+            last_checkpoint: None,
             first_frame,
             options,
             dt,
@@ -167,8 +164,7 @@ impl<'a> Outputs<'a> {
         self.diagnostics.flush().map_err(|e| io(&self.out, e))?;
         self.series(world, self.diagnostics.times())?;
         self.save(world, self.diagnostics.rows())?;
-        self.checkpoints += 1;
-        self.last_checkpoint = world.steps();
+        self.last_checkpoint = Some(world.steps());
         Ok(())
     }
 
@@ -195,7 +191,7 @@ impl<'a> Outputs<'a> {
         if let Err(error) = written {
             return Err(self.keep(error, world));
         }
-        let place = self.place(self.diagnostics.rows(), self.frames);
+        let place = place(&self.out, self.format, self.diagnostics.rows(), self.frames);
         let (options, dt, every) = (self.options, self.dt, self.every);
         let checkpoint = self.checkpoint_sentence();
         self.diagnostics.finish().map_err(|e| io(&self.out, e))?;
@@ -223,11 +219,11 @@ impl<'a> Outputs<'a> {
     /// error with a sentence of exactly what was kept.
     pub fn keep(self, error: CliError, world: &World) -> CliError {
         let csv = self.out.join("diagnostics.csv");
-        let times = self.diagnostics.times().to_vec();
         let frames = self.frames;
         let (mut notes, mut kept_frames) = (String::new(), frames);
         match self.format {
             Some(OutputFormat::Frames(_)) if frames > 0 => {
+                let times = self.diagnostics.times();
                 let listed = times.len().min(self.first_frame + frames);
                 if let Err(e) = self.series(world, &times[..listed]) {
                     notes.push_str(&format!("; the frames' series file was not written ({e})"));
@@ -265,19 +261,15 @@ impl<'a> Outputs<'a> {
         }
     }
 
-    /// Where `rows` rows and `frames` frames of this run are.
-    fn place(&self, rows: usize, frames: usize) -> String {
-        place(&self.out, self.format, rows, frames)
-    }
-
     /// "; the last checkpoint (step N) is in FILE", where this run saved one.
     fn checkpoint_sentence(&self) -> String {
-        match (&self.options.save_state, self.checkpoints) {
-            (Some(path), 1..) => format!(
-                "; the last checkpoint (step {}) is in {}",
-                self.last_checkpoint,
-                path.display()
-            ),
+        match (&self.options.save_state, self.last_checkpoint) {
+            (Some(path), Some(step)) => {
+                format!(
+                    "; the last checkpoint (step {step}) is in {}",
+                    path.display()
+                )
+            }
             _ => String::new(),
         }
     }

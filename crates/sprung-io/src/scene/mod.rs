@@ -226,20 +226,31 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, SceneError> {
     parse_scene_with(text, path, &Disk)
 }
 
+/// Refuse scene `text` (named `path` in errors) that is longer than a
+/// scene file may be ([`crate::input::check_scene_text`]), or whose arrays
+/// and tables nest deeper than [`MAX_VALUE_DEPTH`] (at its line): before
+/// any TOML reader, which recurses, sees it. Every reading of scene text
+/// passes here, with overrides or without.
+pub(crate) fn check_text(text: &str, path: &Path) -> Result<(), SceneError> {
+    crate::input::check_scene_text(text, path)?;
+    match overrides::too_deep_at(text) {
+        None => Ok(()),
+        Some(at) => {
+            let message = format!(
+                "arrays or tables nest more than {MAX_VALUE_DEPTH} deep here, the most a value may"
+            );
+            Err(SceneError::new(path, Some(line_of(text, at)), message))
+        }
+    }
+}
+
 /// [`parse_scene`] with the files it refers to read from `files`.
 pub fn parse_scene_with(
     text: &str,
     path: &Path,
     files: &dyn FileSource,
 ) -> Result<Scene, SceneError> {
-    crate::input::check_scene_text(text, path)?;
-    // The TOML reader recurses: nesting is bounded before it reads.
-    if let Some(at) = overrides::too_deep_at(text) {
-        let message = format!(
-            "arrays or tables nest more than {MAX_VALUE_DEPTH} deep here, the most a value may"
-        );
-        return Err(SceneError::new(path, Some(line_of(text, at)), message));
-    }
+    check_text(text, path)?;
     // Parsed one body at a time (see `sections`): the rest first, then
     // each `[[body]]` section, built into the world and dropped.
     let sections = Sections::find(text);

@@ -439,6 +439,7 @@ fn overridden(
     path: &Path,
     overrides: &[Override],
 ) -> Result<Table, (bool, SceneError)> {
+    super::check_text(text, path).map_err(|e| (true, e))?;
     let mut table: Table = parse_toml(text, 0, text, path).map_err(|e| (true, e))?;
     for item in overrides {
         item.apply(&mut table)

@@ -2,9 +2,11 @@
 //! colliders ([`crate::contact::ccd`]), over each (sub)step's motion.
 
 use crate::colliders::Shape;
-use crate::contact::ccd::{kept_pairs_most_bytes, sweep_colliders, CcdReport, Motion, OverBudget};
+use crate::contact::ccd::{
+    kept_pairs_most_bytes, sweep_colliders, CcdReport, Motion, Runaway, Stopped,
+};
 use crate::error::{BlowUpReason, StepError};
-use crate::{Real, Vec3};
+use crate::Real;
 
 use super::World;
 
@@ -63,16 +65,18 @@ impl World {
 
     /// The ccd stage at the end of a (sub)step of `dt` (s): no particle
     /// passes through a sphere collider, then none through another body's
-    /// surface or its own where it collides with itself. Not run on a
-    /// motion that ran away ([`World::ran_away`]), whose collisions would
-    /// cost far more than the step, nor past its budget: either is kept
-    /// in `ccd_stop`, and the guard stage stops the run on it.
+    /// surface or its own where it collides with itself. Not run past the
+    /// world's limits (`max_distance`, `max_speed`); refused by the
+    /// guarantee on a motion that ran away
+    /// ([`crate::contact::ccd::RUNAWAY_SIZES`]) or past its budget, whose
+    /// collisions would cost far more than the step: each is kept in
+    /// `ccd_stop`, and the guard stage stops the run on it.
     pub(super) fn guarantee(&mut self, dt: Real) -> CcdReport {
-        if self.ccd_start.len() != self.particles.len() || self.ccd_stop.is_some() {
+        if self.ccd_start.len() != self.particles.len() {
             return CcdReport::default();
         }
-        if let Some(stop) = self.ran_away() {
-            self.ccd_stop = Some(stop);
+        if self.guard(0.0).is_err() {
+            self.ccd_stop = Some(CcdStop::Limits);
             return CcdReport::default();
         }
         let particles = &mut self.particles;
@@ -108,64 +112,12 @@ impl World {
             );
             match resolved {
                 Ok(done) => report = report.then(done),
-                Err(over) => self.ccd_stop = Some(CcdStop::OverBudget(over)),
+                Err(stop) => self.ccd_stop = Some(CcdStop::Guarantee(stop)),
             }
         }
         report
     }
-
-    /// Whether the (sub)step's motion ran away before the guarantee: a
-    /// particle beyond the world's limits (`max_distance`, `max_speed`),
-    /// or one of a colliding body that moved, against the body's mean
-    /// move, farther than [`RUNAWAY_SIZES`] times the body's own size at
-    /// the start (or the contact thickness, for a smaller body): a motion
-    /// whose collisions could span the whole scene.
-    fn ran_away(&self) -> Option<CcdStop> {
-        if self.guard(0.0).is_err() {
-            return Some(CcdStop::Limits);
-        }
-        let (start, end) = (&self.ccd_start, &self.particles.position);
-        let thickness = self.contacts.settings.thickness;
-        for (index, body) in self.bodies.iter().enumerate() {
-            if !body.contact.collide || body.particles.is_empty() {
-                continue;
-            }
-            let range = body.particles.clone();
-            let count = range.len() as Real;
-            let mean = range.clone().map(|i| end[i] - start[i]).sum::<Vec3>() / count;
-            let (mut low, mut high) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-            let (mut farthest, mut worst) = (0.0, range.start);
-            for i in range {
-                low = low.min(start[i]);
-                high = high.max(start[i]);
-                let stray = (end[i] - start[i] - mean).length_squared();
-                if stray > farthest {
-                    (farthest, worst) = (stray, i);
-                }
-            }
-            let size = (high - low).length().max(thickness);
-            let stray = farthest.sqrt();
-            if stray > RUNAWAY_SIZES * size {
-                return Some(CcdStop::OutOfShape {
-                    body: index,
-                    particle: worst,
-                    stray,
-                    size,
-                });
-            }
-        }
-        None
-    }
 }
-
-/// How many times its own size (at the start of the step) a particle of a
-/// colliding body may move against its body's mean move in one step before
-/// the motion counts as run away. The guarantee puts back motions of a few
-/// sizes (a cloth particle flung by a deep penalty contact moved 2.9 m
-/// against its 1.7 m cloth in one step of a 150 m/s ball's catch, and was
-/// put back); an unstable ball of stiffness 2.1e9 N/m moved 340 times its
-/// size in its first step.
-pub const RUNAWAY_SIZES: Real = 100.0;
 
 /// Why the ccd stage of a step did not clear its collisions; the guard
 /// stage stops the run on it.
@@ -173,16 +125,8 @@ pub const RUNAWAY_SIZES: Real = 100.0;
 pub(super) enum CcdStop {
     /// A particle beyond the world's limits: the guard finds which.
     Limits,
-    /// `particle` of body `body` moved `stray` (m) against its body's mean
-    /// move, more than the body's `size` (m).
-    OutOfShape {
-        body: usize,
-        particle: usize,
-        stray: Real,
-        size: Real,
-    },
-    /// The collisions would take more than the step's budget.
-    OverBudget(OverBudget),
+    /// The guarantee's own refusal.
+    Guarantee(Stopped),
 }
 
 impl World {
@@ -192,25 +136,31 @@ impl World {
     pub(super) fn ccd_error(&self, stop: CcdStop, dt: Real) -> StepError {
         let named = |body: usize| format!("\"{}\"", self.bodies[body].name);
         match stop {
-            CcdStop::OutOfShape {
-                body,
+            CcdStop::Guarantee(Stopped::Runaway(Runaway {
                 particle,
                 stray,
                 size,
-            } => StepError::BlowUp {
-                step: self.steps,
-                time: self.time,
-                particle,
-                body: format!(
-                    "body {}, its particle {}",
-                    named(body),
-                    particle - self.bodies[body].particles.start
-                ),
-                reason: BlowUpReason::OutOfShape { stray, size },
-                dt,
-                stable_dt: self.stable_time_step(),
-            },
-            CcdStop::OverBudget(over) => StepError::GuaranteeOverBudget {
+            })) => {
+                // The bodies hold the particles in runs, in order.
+                let body = self.bodies.partition_point(|b| b.particles.end <= particle);
+                StepError::BlowUp {
+                    step: self.steps,
+                    time: self.time,
+                    particle,
+                    body: match self.bodies.get(body) {
+                        Some(b) => format!(
+                            "body {}, its particle {}",
+                            named(body),
+                            particle - b.particles.start
+                        ),
+                        None => "no body".into(),
+                    },
+                    reason: BlowUpReason::OutOfShape { stray, size },
+                    dt,
+                    stable_dt: self.stable_time_step(),
+                }
+            }
+            CcdStop::Guarantee(Stopped::OverBudget(over)) => StepError::GuaranteeOverBudget {
                 step: self.steps,
                 time: self.time,
                 bodies: over

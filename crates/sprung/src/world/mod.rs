@@ -54,7 +54,6 @@ mod state;
 mod step;
 
 pub use dynamics::Dynamics;
-pub use guarantee::RUNAWAY_SIZES;
 pub use observe::PLASTIC;
 
 /// The approach speed (m/s) below which a rigid body's contact with a

@@ -33,7 +33,8 @@ mod narrow;
 mod search;
 mod zones;
 
-pub use broad::{kept_pairs_most, KEPT_PAIRS_PER_ELEMENT, MIN_KEPT_PAIRS};
+pub(crate) use broad::Runaway;
+pub use broad::{kept_pairs_most, KEPT_PAIRS_PER_ELEMENT, MIN_KEPT_PAIRS, RUNAWAY_SIZES};
 pub(crate) use colliders::sweep_colliders;
 
 use crate::body::Body;
@@ -91,6 +92,16 @@ pub fn work_budget(elements: usize) -> u64 {
     (elements as u64)
         .saturating_mul(WORK_PER_ELEMENT)
         .max(MIN_WORK)
+}
+
+/// Why the guarantee left a step's collisions as they were: the run must
+/// stop on it.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Stopped {
+    /// The motion ran away before the search ([`RUNAWAY_SIZES`]).
+    Runaway(Runaway),
+    /// The collisions would take more than the step's budget.
+    OverBudget(OverBudget),
 }
 
 /// A step whose collisions the guarantee could not clear within its
@@ -160,8 +171,9 @@ impl Guarantee {
     /// Clear every collision of the step of `dt` (s) between `bodies`
     /// (contact `thickness` in m, Coulomb `friction`); `rigid` bodies
     /// move as one zone each. Refused, with the state left where the step
-    /// took it, where clearing them would take more than the budget of
-    /// the step ([`work_budget`]). Asked to stop ([`crate::interrupt`]),
+    /// took it, where the motion ran away ([`RUNAWAY_SIZES`]) or clearing
+    /// the collisions would take more than the budget of the step
+    /// ([`work_budget`]). Asked to stop ([`crate::interrupt`]),
     /// it takes its fail-safe: every particle that collides with another
     /// body or itself ends the step where it started it.
     pub fn resolve(
@@ -172,7 +184,7 @@ impl Guarantee {
         thickness: Real,
         friction: Real,
         dt: Real,
-    ) -> Result<CcdReport, OverBudget> {
+    ) -> Result<CcdReport, Stopped> {
         let mut report = CcdReport::default();
         self.work = 0;
         if !self.elements.gather(bodies) {
@@ -190,7 +202,7 @@ impl Guarantee {
         let budget = work_budget(self.elements.list.len());
         // Most steps find nothing: the ends are kept only for a step that
         // will move them.
-        self.find(start, position, inverse_mass, gap, radius);
+        self.find(start, position, inverse_mass, gap, radius)?;
         if self.hits.is_empty() {
             return Ok(report);
         }
@@ -199,10 +211,10 @@ impl Guarantee {
         let mut zoned = false;
         for round in 0.. {
             if round > 0 {
-                self.find(start, position, inverse_mass, gap, radius);
+                self.find(start, position, inverse_mass, gap, radius)?;
             }
             if self.work > budget {
-                return Err(self.over_budget(bodies, budget, round));
+                return Err(Stopped::OverBudget(self.over_budget(bodies, budget, round)));
             }
             if round >= IMPULSE_ROUNDS {
                 if !zoned {
@@ -264,10 +276,9 @@ impl Guarantee {
             .iter()
             .flat_map(|hit| hit.particles.iter().zip(hit.weights))
             .filter(|(_, w)| *w != 0.0)
-            .filter_map(|(&p, _)| {
-                let p = p as usize;
-                bodies.iter().position(|b| b.particles.contains(&p))
-            })
+            // The bodies hold the particles in runs, in order.
+            .map(|(&p, _)| bodies.partition_point(|b| b.particles.end <= p as usize))
+            .filter(|&b| b < bodies.len())
             .collect();
         involved.sort_unstable();
         involved.dedup();
@@ -292,13 +303,14 @@ impl Guarantee {
         inverse_mass: &[Real],
         gap: Real,
         radius: Real,
-    ) {
+    ) -> Result<(), Stopped> {
         let elements = &self.elements;
         let hits = &mut self.hits;
         let work = &mut self.work;
         hits.clear();
         self.sweep
-            .prepare(elements, start, end, self.thickness, gap, radius);
+            .prepare(elements, start, end, self.thickness, gap, radius)
+            .map_err(Stopped::Runaway)?;
         self.sweep.overlaps(elements, |a, b| {
             let (ea, eb) = (&elements.list[a], &elements.list[b]);
             *work += 1;
@@ -312,6 +324,7 @@ impl Guarantee {
                 }
             }
         });
+        Ok(())
     }
 
     /// After a round of impulses, put the rigid bodies the impulses moved

@@ -80,7 +80,9 @@ fn pairs_searched_at_each_check_are_those_kept() {
         }
         let mut on = [Vec::new(), Vec::new()];
         for (sweep, on) in [&mut kept, &mut searched].into_iter().zip(&mut on) {
-            sweep.prepare(&elements, &start, &end, 0.01, 1e-3, 1e-3);
+            sweep
+                .prepare(&elements, &start, &end, 0.01, 1e-3, 1e-3)
+                .expect("a motion within bounds");
             sweep.overlaps(&elements, |a, b| on.push((a, b)));
             on.sort_unstable();
         }
@@ -127,7 +129,9 @@ fn every_pair_that_meets_is_handed_on(allowance: Option<usize>) {
                 *x += shift + noise.vector(jitter);
             }
         }
-        sweep.prepare(&elements, &start, &end, thickness, gap, radius);
+        sweep
+            .prepare(&elements, &start, &end, thickness, gap, radius)
+            .expect("a motion within bounds");
         let kept: usize = sweep
             .found
             .values()
@@ -188,7 +192,9 @@ fn bodies_moving_together_keep_their_pairs_and_hand_on_none() {
             .iter()
             .map(|x| *x - 0.01 * Vec3::Z + noise.vector(1e-6))
             .collect();
-        sweep.prepare(&elements, &start, &end, 0.01, 1e-5, 1e-3);
+        sweep
+            .prepare(&elements, &start, &end, 0.01, 1e-5, 1e-3)
+            .expect("a motion within bounds");
         sweep.overlaps(&elements, |a, b| {
             panic!(
                 "{a} and {b} handed on: {:?} {:?}",
