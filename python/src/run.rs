@@ -32,7 +32,10 @@ pub fn run(
     format: Option<String>,
 ) -> PyResult<Ran> {
     let format: Option<FrameFormat> = format
-        .map(|name| name.parse::<FrameFormat>().map_err(bad_value))
+        .map(|name| {
+            name.parse::<FrameFormat>()
+                .map_err(|e| bad_value(e.to_string()))
+        })
         .transpose()?;
     if format.is_some() && out.is_none() {
         return Err(bad_value(

@@ -144,7 +144,7 @@ fn an_unknown_device_is_named_with_its_line() {
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("tpu.toml:5"), "{stderr}");
     assert!(
-        stderr.contains("unknown device \"tpu\" (expected \"cpu\", \"gpu\" or \"gpu_f64\")"),
+        stderr.contains("unknown device \"tpu\" (known: cpu, gpu, gpu_f64)"),
         "{stderr}"
     );
     let out = sprung(

@@ -59,6 +59,7 @@ pub mod springs;
 pub mod stage;
 pub mod state;
 pub mod surface;
+mod unknown;
 pub mod world;
 
 /// The one real number type of the engine (SI units throughout).
@@ -80,4 +81,5 @@ pub use particles::Particles;
 pub use springs::Springs;
 pub use stage::{Profile, Stage};
 pub use state::{StateError, WorldState};
+pub use unknown::UnknownName;
 pub use world::{Settings, Substeps, World};

@@ -65,13 +65,19 @@ impl FrameFormat {
 }
 
 impl std::str::FromStr for FrameFormat {
-    type Err = String;
+    type Err = sprung::UnknownName;
 
-    fn from_str(name: &str) -> Result<Self, String> {
+    fn from_str(name: &str) -> Result<Self, Self::Err> {
         FrameFormat::ALL
             .into_iter()
             .find(|f| f.extension() == name)
-            .ok_or_else(|| format!("unknown frame format \"{name}\" (known: vtu, vtk, obj)"))
+            .ok_or_else(|| {
+                sprung::UnknownName::new(
+                    "frame format",
+                    name,
+                    FrameFormat::ALL.map(|f| f.extension()),
+                )
+            })
     }
 }
 
@@ -86,13 +92,14 @@ pub enum OutputFormat {
 }
 
 impl std::str::FromStr for OutputFormat {
-    type Err = String;
+    type Err = sprung::UnknownName;
 
-    fn from_str(name: &str) -> Result<Self, String> {
+    fn from_str(name: &str) -> Result<Self, Self::Err> {
         match name {
             "gltf" | "glb" => Ok(OutputFormat::Gltf),
             _ => name.parse().map(OutputFormat::Frames).map_err(|_| {
-                format!("unknown frame format \"{name}\" (known: vtu, vtk, obj, gltf)")
+                let frames = FrameFormat::ALL.map(|f| f.extension());
+                sprung::UnknownName::new("frame format", name, frames.into_iter().chain(["gltf"]))
             }),
         }
     }

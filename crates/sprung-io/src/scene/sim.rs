@@ -38,15 +38,17 @@ impl Device {
 }
 
 impl std::str::FromStr for Device {
-    type Err = String;
+    type Err = sprung::UnknownName;
 
     fn from_str(name: &str) -> Result<Self, Self::Err> {
         match name {
             "cpu" => Ok(Device::Cpu),
             "gpu" => Ok(Device::Gpu),
             "gpu_f64" => Ok(Device::GpuF64),
-            _ => Err(format!(
-                "unknown device \"{name}\" (expected \"cpu\", \"gpu\" or \"gpu_f64\")"
+            _ => Err(sprung::UnknownName::new(
+                "device",
+                name,
+                ["cpu", "gpu", "gpu_f64"],
             )),
         }
     }
@@ -62,7 +64,9 @@ impl std::fmt::Display for Device {
 pub(super) fn device(sim: &SimTable) -> Result<Device, KeyError> {
     match &sim.device {
         None => Ok(Device::Cpu),
-        Some(name) => name.parse().map_err(|m| ("device", m)),
+        Some(name) => name
+            .parse()
+            .map_err(|e: sprung::UnknownName| ("device", e.to_string())),
     }
 }
 
@@ -73,7 +77,9 @@ const TIME_LIMIT: Real = sprung::error::ENERGY_LIMIT;
 pub(super) fn timing(sim: &SimTable) -> Result<(IntegratorKind, Real, u64), KeyError> {
     let integrator = match &sim.integrator {
         None => IntegratorKind::SymplecticEuler,
-        Some(name) => name.parse().map_err(|m| ("integrator", m))?,
+        Some(name) => name
+            .parse()
+            .map_err(|e: sprung::UnknownName| ("integrator", e.to_string()))?,
     };
     let dt = positive(
         "dt",

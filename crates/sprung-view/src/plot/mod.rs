@@ -67,13 +67,13 @@ impl Dimension {
 }
 
 impl FromStr for Dimension {
-    type Err = String;
+    type Err = sprung::UnknownName;
 
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s {
             "2" | "2d" | "2D" => Ok(Dimension::Two),
             "3" | "3d" | "3D" => Ok(Dimension::Three),
-            other => Err(format!("unknown dimension \"{other}\" (known: 2, 3)")),
+            other => Err(sprung::UnknownName::new("dimension", other, ["2", "3"])),
         }
     }
 }
@@ -92,15 +92,17 @@ pub enum Scale {
 }
 
 impl FromStr for Scale {
-    type Err = String;
+    type Err = sprung::UnknownName;
 
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s {
             "auto" => Ok(Scale::Auto),
             "linear" => Ok(Scale::Linear),
             "log" => Ok(Scale::Log),
-            other => Err(format!(
-                "unknown scale \"{other}\" (known: auto, linear, log)"
+            other => Err(sprung::UnknownName::new(
+                "scale",
+                other,
+                ["auto", "linear", "log"],
             )),
         }
     }

@@ -252,7 +252,7 @@ impl IntegratorKind {
     ///     assert_eq!(kind.name().parse(), Ok(kind));
     /// }
     /// let error = "leapfrog".parse::<IntegratorKind>().unwrap_err();
-    /// assert!(error.starts_with("unknown integrator \"leapfrog\" (known: euler, "));
+    /// assert!(error.to_string().starts_with("unknown integrator \"leapfrog\" (known: euler, "));
     /// ```
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|k| k.name() == name)
@@ -352,16 +352,11 @@ impl std::fmt::Display for IntegratorKind {
 }
 
 impl std::str::FromStr for IntegratorKind {
-    type Err = String;
+    type Err = crate::UnknownName;
 
     fn from_str(name: &str) -> Result<Self, Self::Err> {
-        Self::from_name(name).ok_or_else(|| {
-            let known: Vec<_> = Self::ALL.iter().map(|k| k.name()).collect();
-            format!(
-                "unknown integrator \"{name}\" (known: {})",
-                known.join(", ")
-            )
-        })
+        Self::from_name(name)
+            .ok_or_else(|| crate::UnknownName::new("integrator", name, Self::ALL.map(|k| k.name())))
     }
 }
 
