@@ -13,7 +13,7 @@ use sprung::{IntegratorKind, Real, Shape, Substeps, World};
 use sprung_io::{load_scene_overridden, Device, Override};
 
 use crate::bench::memory;
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// Check the scene at `path` with `overrides` applied: exit status 0 when
 /// it loads, 1 (with the error) when it does not, or when `device` (else

@@ -9,7 +9,7 @@ use sprung::World;
 use sprung_io::scene::Scene;
 use sprung_io::state::{self, StateFileError};
 
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// Where a resumed run starts: the rows (and frames) the saved run had
 /// recorded.

@@ -8,7 +8,8 @@ use sprung_io::demos::{self, Bundled, DEFAULT_DEMO, DEMOS};
 use sprung_io::export::{FrameFormat, OutputFormat};
 use sprung_io::parse_scene_overridden;
 
-use crate::run::{run_scene, CliError};
+use crate::error::CliError;
+use crate::run::run_scene;
 use crate::RunOptions;
 
 /// Print the demos, one a line.

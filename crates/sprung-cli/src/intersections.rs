@@ -9,7 +9,7 @@ use sprung_io::crossings::{count, Crossings, Surfaces};
 use sprung_io::export::read_vtk_frame;
 use sprung_view::render::frame_files;
 
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// Print the crossings of every frame of the run in `dir` that has any,
 /// and the totals. Exit status 1 when a surface passed through another

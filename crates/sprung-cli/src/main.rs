@@ -13,6 +13,7 @@ mod checkpoint;
 #[global_allocator]
 static ALLOCATOR: bench::memory::Counting = bench::memory::Counting;
 mod demos;
+mod error;
 mod interrupt;
 mod intersections;
 mod on_gpu;

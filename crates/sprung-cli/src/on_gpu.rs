@@ -7,7 +7,7 @@ use sprung::World;
 use sprung_gpu::{Gpu, GpuError, GpuWorld, Precision};
 use sprung_io::{Device, Scene};
 
-use crate::run::CliError;
+use crate::error::CliError;
 use crate::RunOptions;
 
 /// The most steps run on the GPU between two read-backs.

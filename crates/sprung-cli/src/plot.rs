@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 use sprung_view::plot::{self, Dimension, PlotError, PlotOptions, Scale};
 
-use crate::run::CliError;
+use crate::error::CliError;
 use crate::values;
 
 /// Arguments of `sprung plot`.

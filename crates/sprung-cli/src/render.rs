@@ -14,8 +14,8 @@ use sprung_view::render::{
     RenderSettings, Rendered, Snapshot, StrainColours, DEFAULT_FOV_DEGREES, DEFAULT_PICTURE_RATE,
 };
 
+use crate::error::CliError;
 use crate::on_gpu;
-use crate::run::CliError;
 use crate::values;
 
 /// Arguments of `sprung render`.

@@ -12,8 +12,8 @@ use sprung_io::scene::{overridden_table, scene_toml};
 use sprung_io::toml::Value;
 use sprung_io::{parse_scene_overridden, Disk, FileSource, Override, Scene};
 
+use crate::error::CliError;
 use crate::outputs::resolved;
-use crate::run::CliError;
 
 /// The name of standard input in messages and as the scene's path.
 const STDIN: &str = "<stdin>";

@@ -14,7 +14,7 @@ use sprung::forces::{MouseSpring, Wind};
 use sprung::{IntegratorKind, Real, World};
 use sprung_io::{parse_scene, SceneError};
 
-use crate::run::CliError;
+use crate::error::CliError;
 use energy::EnergyCheck;
 use search::{Cost, Limit, Plan, MAX_TRIAL_WORK};
 

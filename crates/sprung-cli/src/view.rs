@@ -10,7 +10,7 @@ use std::process::Command;
 
 use clap::Args;
 
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// The viewer's program name.
 const VIEWER: &str = "sprung-viewer";

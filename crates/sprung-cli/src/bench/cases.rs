@@ -7,7 +7,7 @@ use sprung::{BodyData, Gas, IntegratorKind, Real, StrainLimits, Vec3, World};
 
 use super::contacts::{self, balls_in_a_box, folded_cloth};
 use super::stiff_cloth::{stiff_cloth, FRAME};
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// The groups of cases, to pick with `--only`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

@@ -6,7 +6,7 @@
 use sprung::build::{self, ClothSprings, SurfaceSprings};
 use sprung::{Collider, ContactResponse, Gas, IntegratorKind, Real, Shape, Vec3, World};
 
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// Time step of the contact scenes (s).
 pub const DT: Real = 2e-4;

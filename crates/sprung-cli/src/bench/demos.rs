@@ -7,7 +7,7 @@ use std::time::Instant;
 use sprung::parallel;
 use sprung_io::demos::DEMOS;
 
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// Time every demo for at least `steps` steps and `seconds` of wall clock
 /// (or its whole run, if shorter) and print its real-time factor.

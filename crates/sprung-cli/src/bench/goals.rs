@@ -19,7 +19,7 @@ use sprung_io::export::AtomicFile;
 use super::cases::{self, Case, Group, Step};
 use super::stiff_cloth::{light_cloth, FRAME};
 use super::{reference, time};
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// What a figure was before this turn.
 #[derive(Debug, Clone, PartialEq)]

@@ -8,7 +8,7 @@ use sprung_gpu::{Gpu, GpuError, GpuWorld, Precision};
 use sprung_io::export::AtomicFile;
 
 use super::cases;
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// Steps a frame of the goal (60 frames a second, 10 steps each).
 const STEPS_PER_FRAME: f64 = 10.0;

@@ -28,7 +28,7 @@ use sprung::{parallel, IntegratorKind, Real, Stage};
 use sprung_io::export::AtomicFile;
 use sprung_io::Device;
 
-use crate::run::CliError;
+use crate::error::CliError;
 use cases::{Case, Group};
 
 /// A cloth's particles along a side, for `--size` and `--sizes`: at

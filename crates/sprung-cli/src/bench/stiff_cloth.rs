@@ -9,7 +9,7 @@ use sprung::build::{self, ClothSprings};
 use sprung::integrate::Preconditioner;
 use sprung::{BodyData, IntegratorKind, Real, Vec3, World};
 
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// The frame step the implicit solvers take (s).
 pub const FRAME: Real = 1.0 / 60.0;

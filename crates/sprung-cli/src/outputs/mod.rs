@@ -17,7 +17,7 @@ use refusals::{
 };
 
 use crate::checkpoint::{self, Resumed};
-use crate::run::CliError;
+use crate::error::CliError;
 use crate::RunOptions;
 
 /// The glTF animation's file in a run's folder.

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use sprung_io::export;
 
 use super::ANIMATION;
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// The tables of a run's diagnostics that a resumed run can go on from
 /// (`Diagnostics::resume` reads the first that exists).

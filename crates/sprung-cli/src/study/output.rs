@@ -10,7 +10,7 @@ use sprung_view::plot::{stability_png, PlotOptions, StabilityPoint};
 
 use super::search::{Limit, BRACKET};
 use super::{Row, Setting};
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// The CSV's file name in the output folder.
 pub const CSV: &str = "stability.csv";

@@ -10,7 +10,7 @@ use sprung::{IntegratorKind, Real, StepError, World};
 use sprung_io::parse_scene;
 
 use super::energy::{EnergyCheck, EnergyWatch};
-use crate::run::CliError;
+use crate::error::CliError;
 
 /// Bisection stops once the smallest unstable step tried is less than
 /// this factor above the largest stable one.
