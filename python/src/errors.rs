@@ -114,7 +114,7 @@ pub fn step_error(py: Python<'_>, error: &StepError) -> PyErr {
         ),
         StepError::Solver { step, time, .. }
         | StepError::TooManyContacts { step, time, .. }
-        | StepError::GuaranteeOverBudget { step, time, .. }
+        | StepError::CcdOverBudget { step, time, .. }
         | StepError::RodOff { step, time, .. } => typed(
             py,
             "StepError",

@@ -141,11 +141,11 @@ pub fn run(path: &Path, overrides: &[Override], device: Option<Device>) -> Resul
         stepping.peak() as f64 / 1e6,
         load_peak as f64 / 1e6,
     );
-    let guarantee = scene.world.guarantee_memory_most();
-    if guarantee > 0 {
+    let ccd = scene.world.ccd_memory_most();
+    if ccd > 0 {
         println!(
-            "  the guarantee's pairs may add up to {:.1} MB where bodies press together at speed (it keeps {} per element that collides, {} at least, no more than the pairs there are; not counted: the collisions of a step and the penalty contacts' pairs)",
-            guarantee as f64 / 1e6,
+            "  the CCD's pairs may add up to {:.1} MB where bodies press together at speed (it keeps {} per element that collides, {} at least, no more than the pairs there are; not counted: the collisions of a step and the penalty contacts' pairs)",
+            ccd as f64 / 1e6,
             sprung::contact::ccd::KEPT_PAIRS_PER_ELEMENT,
             sprung::contact::ccd::MIN_KEPT_PAIRS,
         );
@@ -199,7 +199,7 @@ fn overlapping(world: &World) -> Vec<String> {
                 ),
             };
             format!(
-                "{which} ({touches} particles nearer than half the contact thickness {} m to a surface, or inside it): their contact pushes them apart at once, and the guarantee that no particle passes through a surface sees them collide at every step until they part, at many times its usual cost (start them apart by the thickness)",
+                "{which} ({touches} particles nearer than half the contact thickness {} m to a surface, or inside it): their contact pushes them apart at once, and the CCD that keeps every particle from passing through a surface sees them collide at every step until they part, at many times its usual cost (start them apart by the thickness)",
                 Readable(thickness)
             )
         })

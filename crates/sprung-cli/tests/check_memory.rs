@@ -2,7 +2,7 @@
 //! world as loaded, its first steps, the loading's peak), and agrees with
 //! the heap peak the run itself reports (`--profile`) to within 25 %;
 //! where bodies press together at speed after those steps, it names the
-//! most the guarantee's pairs can add, and the run stays within it.
+//! most the CCD's pairs can add, and the run stays within it.
 
 mod common;
 
@@ -28,7 +28,7 @@ fn check_measures_the_memory_a_run_takes() {
     let dir = tempfile::tempdir().expect("tempdir");
     let d = dir.path();
     // Many bodies that touch: 100 small cloths in a stack, falling onto
-    // each other (candidate contact pairs, their schedules, the guarantee's
+    // each other (candidate contact pairs, their schedules, the CCD's
     // buffers), and 100 gas balls beside them.
     let mut scene = String::from("[sim]\ndt = 5e-4\nsteps = 3\nintegrator = \"rk4\"\n");
     for i in 0..100 {
@@ -63,7 +63,7 @@ fn check_bounds_the_memory_of_contacts_that_come_later() {
     let dir = tempfile::tempdir().expect("tempdir");
     let d = dir.path();
     // The bullet demo's ball at 100 m/s, 20 cm above a 30 × 30 cloth:
-    // it reaches the cloth after check's two steps, and the guarantee
+    // it reaches the cloth after check's two steps, and the CCD
     // then keeps about 1.8 million pairs of elements (tens of MB).
     let scene = "[sim]\ndt = 2.5e-4\nsteps = 60\nintegrator = \"symplectic_euler\"\n\n\
         [[body]]\nname = \"ball\"\nsphere = { radius = 0.1, subdivisions = 2 }\n\
@@ -77,7 +77,7 @@ fn check_bounds_the_memory_of_contacts_that_come_later() {
     assert!(check.status.success(), "{}", text(&check.stderr));
     let said = text(&check.stdout);
     let estimate = megabytes(&said, "memory while running:");
-    let contacts = megabytes(&said, "the guarantee's pairs may add up to");
+    let contacts = megabytes(&said, "the CCD's pairs may add up to");
     // The bound is 3 × (at least 2 million pairs) × 16 bytes: the
     // 6,125 elements' 256 each are fewer than the 2 million, and they
     // make 18.8 million pairs.

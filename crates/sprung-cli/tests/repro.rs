@@ -366,9 +366,9 @@ fn check_refuses_a_scene_for_its_device_in_the_words_of_run() {
 }
 
 #[test]
-fn the_guarantee_stops_a_runaway_motion_at_once() {
+fn ccd_stops_a_runaway_motion_at_once() {
     let dir = tempfile::tempdir().expect("tempdir");
-    // Both ran tens of seconds a step in the guarantee before the guard
+    // Both ran tens of seconds a step in the CCD before the guard
     // stopped them at step 2 or 3: now the guard's checks come first.
     for (scene, step, why) in [
         ("stiff_ball_into_cloth.toml", 2, "moved 1.186e2 m against the rest of its body in one step, more than 100 times the body's size 3.499e-1 m"),
@@ -406,7 +406,7 @@ fn sheets_that_start_on_top_of_each_other_are_warned_of_and_run() {
 }
 
 #[test]
-fn sigint_stops_the_slowest_guarantee_reproducer_within_half_a_second() {
+fn sigint_stops_the_slowest_ccd_reproducer_within_half_a_second() {
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("o");
     let scene = data("coplanar_cloths.toml");

@@ -89,7 +89,7 @@ pub fn check(world: &World) -> Result<(), GpuError> {
     }
     if world.is_guarded() {
         return lacks(
-            "the no-pass-through guarantee of sphere colliders and contacts (set ccd = false in [contact])",
+            "the no-pass-through CCD of sphere colliders and contacts (set ccd = false in [contact])",
         );
     }
     Ok(())

@@ -1,4 +1,4 @@
-//! The guarantee behind the contacts (docs/physics.md §8): no surface
+//! The CCD behind the contacts (docs/physics.md §8): no surface
 //! passes through another, at any speed or step, counted by the frame
 //! count of `sprung check --intersections` (`sprung_io::crossings`),
 //! which is written apart from the engine's collision code.
@@ -105,10 +105,10 @@ fn balls_fired_at_a_pinned_cloth_never_pass_through_it() {
 
 #[test]
 fn a_rigid_ball_fired_at_a_cloth_held_by_rods_never_passes_through() {
-    // Claim: the guarantee holds with the stages before it that move
+    // Claim: the CCD holds with the stages before it that move
     // particles their own way: a rigid ball (moved as one zone) fired at
     // 60 and 150 m/s into the pinned cloth with rods along its middle row
-    // (projected in the constrain stage, before the guarantee): zero
+    // (projected in the constrain stage, before the CCD): zero
     // crossings between bodies in every step, and the ball caught.
     let row: Vec<String> = (420..449).map(|i| format!("[{i}, {}]", i + 1)).collect();
     let rods = format!("rods = [{}]", row.join(", "));
@@ -122,7 +122,7 @@ fn a_rigid_ball_fired_at_a_cloth_held_by_rods_never_passes_through() {
 }
 
 #[test]
-fn without_the_guarantee_the_fast_ball_tunnels_and_the_count_sees_it() {
+fn without_ccd_the_fast_ball_tunnels_and_the_count_sees_it() {
     // Claim: the count is not blind: with `ccd = false` the ball at
     // 150 m/s goes through the cloth (its particles counted as points
     // through), as the penalty alone stops only what it slows within the
@@ -138,7 +138,7 @@ fn without_the_guarantee_the_fast_ball_tunnels_and_the_count_sees_it() {
 }
 
 #[test]
-fn the_guarantee_keeps_momentum_and_the_same_bits_on_one_and_two_threads() {
+fn ccd_keeps_momentum_and_the_same_bits_on_one_and_two_threads() {
     // Claim: with no pins and no gravity, the impulses and impact zones
     // keep the linear momentum: each impulse moves its particles by
     // weights summing to zero, each zone keeps its own. Relative to the
@@ -158,7 +158,7 @@ fn the_guarantee_keeps_momentum_and_the_same_bits_on_one_and_two_threads() {
         (world, start, impulses)
     };
     let (world, start, impulses) = parallel::with_threads(1, run).expect("a pool");
-    assert!(impulses > 0, "the guarantee acted");
+    assert!(impulses > 0, "the CCD acted");
     let drift = (world.linear_momentum() - start).length();
     assert!(drift <= 1e-9 * start.length(), "momentum drift {drift}");
     let (two, _, _) = parallel::with_threads(2, run).expect("a pool");
@@ -313,17 +313,14 @@ gas = {{ nrt = 40.0, ramp_time = 0.0 }}
 
 #[test]
 fn a_2d_ring_fired_at_another_never_gets_inside_it() {
-    // Claim: in 2D the point–segment guarantee keeps every particle of a
+    // Claim: in 2D the point–segment CCD keeps every particle of a
     // ring fired at 20 or 150 m/s out of the other ring's loop after
     // every step (zero, exactly); without it, at 150 m/s, the small ring
     // ends up inside the large one.
     for speed in [20.0, 150.0] {
         assert_eq!(rings_2d(speed, true), 0, "at {speed} m/s");
     }
-    assert!(
-        rings_2d(150.0, false) > 0,
-        "without the guarantee it tunnels"
-    );
+    assert!(rings_2d(150.0, false) > 0, "without the CCD it tunnels");
 }
 
 #[test]

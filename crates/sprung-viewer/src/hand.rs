@@ -277,13 +277,13 @@ mod tests {
     fn a_ball_thrown_by_hand_at_a_cloth_does_not_pass_through_it() {
         // Claim: the hand's spring yanks the ball into the cloth faster
         // than the penalty alone stops (10 m/s at the default stiffness):
-        // without the guarantee it goes through (crossings counted), with
+        // without the CCD it goes through (crossings counted), with
         // it no crossing between the bodies in any step, exactly.
         let (between, fastest) = thrown_at_the_cloth(true);
         assert_eq!(between, 0, "crossings, the ball at up to {fastest} m/s");
         assert!(fastest > 10.0, "thrown at {fastest} m/s");
         let (without, _) = thrown_at_the_cloth(false);
-        assert!(without > 0, "no crossing without the guarantee");
+        assert!(without > 0, "no crossing without the CCD");
     }
 
     #[test]

@@ -458,14 +458,14 @@ pub enum StepError {
         /// The most sweeps it may take (`constraint_iterations`).
         iterations: u32,
     },
-    /// The guarantee that no particle passes through a surface could not
+    /// The CCD that keeps every particle from passing through a surface could not
     /// clear a step's collisions within its budget
     /// ([`crate::contact::ccd::work_budget`]): bodies that start the step
     /// overlapping, or move far into each other in it, collide everywhere.
-    /// The state is that of the step before the guarantee: the run must
+    /// The state is that of the step before the CCD: the run must
     /// stop.
-    #[error("step {step} (t = {} s): the guarantee that no particle passes through a surface could not clear the collisions of {bodies} within its budget ({work} tests and zone moves, at most {budget} a step; {collisions} collisions left after {rounds} rounds): lower `dt`, start the bodies apart (`sprung check` warns of bodies that start overlapping), or turn the guarantee off (`[contact] ccd = false`)", Seconds(*time))]
-    GuaranteeOverBudget {
+    #[error("step {step} (t = {} s): the CCD that keeps every particle from passing through a surface could not clear the collisions of {bodies} within its budget ({work} tests and zone moves, at most {budget} a step; {collisions} collisions left after {rounds} rounds): lower `dt`, start the bodies apart (`sprung check` warns of bodies that start overlapping), or turn the CCD off (`[contact] ccd = false`)", Seconds(*time))]
+    CcdOverBudget {
         /// Number of the step that failed (1 = first step).
         step: u64,
         /// Simulated time at the end of that step (s).
@@ -575,7 +575,7 @@ pub enum BlowUpReason {
     /// farther than [`crate::contact::ccd::RUNAWAY_SIZES`] times the body's `size`
     /// (m, its extent at the start of the step, or the contact thickness
     /// for a smaller body): found before
-    /// the guarantee that no particle passes through a surface, whose
+    /// the CCD that keeps every particle from passing through a surface, whose
     /// work grows with the motion.
     OutOfShape {
         /// How far it moved against its body's mean move (m).

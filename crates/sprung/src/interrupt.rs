@@ -3,7 +3,7 @@
 //! run`) sets a flag it handed to [`watch`], and the engine's long loops
 //! poll it. An implicit solve then stops iterating (the step is taken
 //! less accurately and counted as unconverged, as a solve that reached its
-//! iteration limit), and the guarantee that no particle passes through a
+//! iteration limit), and the CCD that no particle passes through a
 //! surface takes its fail-safe (the colliding bodies keep where they
 //! started the step, [`crate::contact::ccd`]), so the step ends in a
 //! valid state within a fraction of a second, whatever stage it was in,

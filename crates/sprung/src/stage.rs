@@ -58,7 +58,7 @@ pub enum Stage {
     /// Springs past their limits yield or break; faces along broken
     /// springs open.
     Give,
-    /// The guarantee: continuous collision detection over the step's
+    /// The CCD: continuous collision detection over the step's
     /// motion, impulses and impact zones, so that no crossing survives.
     Ccd,
     /// The step's statistics and the check for a blown-up state.

@@ -1,6 +1,6 @@
 //! A stop asked for from outside the engine (`sprung::interrupt`, as
 //! `sprung run` asks on SIGINT) ends the step under way as soon as it
-//! validly can: the guarantee takes its fail-safe (the colliding bodies
+//! validly can: the CCD takes its fail-safe (the colliding bodies
 //! end the step where they started it, which had no crossing) and an
 //! implicit solve stops after its first iteration. The flag is the
 //! process's, so this file holds one test, which sets it in turn.
@@ -47,7 +47,7 @@ fn a_stop_ends_the_step_under_way_as_soon_as_it_validly_can() {
     assert!(sprung::interrupt::watch(Arc::clone(&flag)));
     let dt = 1e-2;
 
-    // Unasked, the guarantee parts the cloths that would pass through.
+    // Unasked, the CCD parts the cloths that would pass through.
     let mut world = crossing_cloths();
     assert!(world.is_guarded());
     let start = world.particles.position.clone();

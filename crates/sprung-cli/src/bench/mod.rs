@@ -142,7 +142,7 @@ struct Row {
     /// The mean number of candidate contact pairs between bodies over the
     /// timed steps (contact cases only): the contact stage's work.
     contact_pairs: Option<f64>,
-    /// The share of the timed steps spent in the guarantee's stage
+    /// The share of the timed steps spent in the CCD's stage
     /// (`ccd`; contact cases only, timed by the world's profile).
     ccd_share: Option<f64>,
     /// The share of the timed steps spent in the give stage (springs that

@@ -196,7 +196,7 @@ impl Diagnostics {
     /// that led to this state) for the explicit integrators and the
     /// starting row; the substeps and the last substep's length (s) where a
     /// step was split (`rk45`, `substeps`); the impulses and impact zones
-    /// of the guarantee behind the contacts in the step that led here
+    /// of the CCD behind the contacts in the step that led here
     /// (`ccd_impulses`, `ccd_zones`); where springs can break or yield,
     /// the springs and joins broken so far (`broken`).
     pub fn record(&mut self, world: &World) -> io::Result<()> {

@@ -159,7 +159,7 @@ pub struct ContactSettings {
     /// Penalty damping on the normal relative velocity (N·s/m); `None`:
     /// `m v_ref / h` per contact.
     pub damping: Option<Real>,
-    /// The guarantee behind the penalty ([`ccd`]): continuous collision
+    /// The CCD behind the penalty ([`ccd`]): continuous collision
     /// detection over each step's motion, so that no particle passes
     /// through a surface. Default on.
     pub ccd: bool,
@@ -341,7 +341,7 @@ pub struct Contacts {
     scratch: detect::Scratch,
     found: detect::Found,
     links: links::Links,
-    pub(crate) guarantee: ccd::Guarantee,
+    pub(crate) ccd: ccd::Ccd,
 }
 
 impl Contacts {

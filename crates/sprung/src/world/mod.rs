@@ -24,7 +24,7 @@
 //! 8. **give** ([`crate::limits`]): springs past their yield strain take a
 //!    new rest length, those past their break strain break, and the faces
 //!    along a broken spring open;
-//! 9. **ccd**: the guarantee, so that no crossing survives the step;
+//! 9. **ccd**: the CCD, so that no crossing survives the step;
 //! 10. **guard**: a non-finite or runaway state stops the run with
 //!     [`StepError::BlowUp`](crate::StepError::BlowUp).
 //!
@@ -46,9 +46,9 @@ use crate::stage::{Profile, Timer};
 use crate::{Real, Vec3};
 
 mod bodies;
+mod ccd;
 mod dynamics;
 mod give;
-mod guarantee;
 mod observe;
 mod state;
 mod step;
@@ -180,13 +180,13 @@ pub struct World {
     step_start: Vec<Vec3>,
     /// Positions before the rods' projection (scratch).
     rod_scratch: Vec<Vec3>,
-    /// Positions at the start of the (sub)step, for the guarantee's
+    /// Positions at the start of the (sub)step, for the CCD's
     /// continuous collision detection (empty where it has nothing to do).
     ccd_start: Vec<Vec3>,
-    /// What the guarantee did in the last step.
+    /// What the CCD did in the last step.
     last_ccd: CcdReport,
-    /// Why this step's guarantee stopped short, if it did.
-    ccd_stop: Option<guarantee::CcdStop>,
+    /// Why this step's CCD stopped short, if it did.
+    ccd_stop: Option<ccd::CcdStop>,
     /// What the rods' projection did in the last step.
     last_rods: RodReport,
     constraint_stats: ConstraintStats,
@@ -478,7 +478,7 @@ impl World {
         self.last_rods
     }
 
-    /// What the guarantee behind the contacts did in the last step
+    /// What the CCD behind the contacts did in the last step
     /// ([`crate::contact::ccd`]): its impulses and impact zones, summed
     /// over the substeps.
     pub fn last_ccd_report(&self) -> CcdReport {

@@ -110,7 +110,7 @@ impl World {
     /// `(a, b, particles)` with the bodies' indices (`a < b`, or `a == b`
     /// for a body folded into itself) and how many of its particles are
     /// that deep, in the bodies' order; then how many more particles are
-    /// that deep in other pairs. At the start of a run, the guarantee
+    /// that deep in other pairs. At the start of a run, the CCD
     /// sees such bodies collide at every step until they part, and their
     /// contact pushes them apart at once.
     pub fn overlapping_bodies(&self, most: usize) -> (Vec<(usize, usize, usize)>, usize) {

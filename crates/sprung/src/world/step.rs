@@ -102,7 +102,7 @@ impl World {
             self.stage(Stage::Friction, |w| w.friction(h));
             self.stage(Stage::Constrain, |w| w.constrain(h));
             self.stage(Stage::Give, World::give);
-            ccd = ccd.then(self.stage(Stage::Ccd, |w| w.guarantee(h)));
+            ccd = ccd.then(self.stage(Stage::Ccd, |w| w.ccd(h)));
             if self.ccd_stop.is_some() {
                 // The guard stage stops the run on it.
                 break;

@@ -1,4 +1,4 @@
-//! The colliders' share of the guarantee: a particle whose straight path
+//! The colliders' share of the CCD: a particle whose straight path
 //! over the step passes through a sphere, in and out again (too fast for the
 //! projection, which sees only where it ends, or for the penalty spring,
 //! which needs it inside) is stopped where it entered, on the sphere as

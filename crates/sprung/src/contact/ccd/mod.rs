@@ -1,4 +1,4 @@
-//! The guarantee behind the penalty contacts (docs/physics.md §8): after
+//! The CCD behind the penalty contacts (docs/physics.md §8): after
 //! each (sub)step's forces, continuous collision detection over the motion
 //! the step made, from where the particles were to where the integrator
 //! (and the colliders, rods and rigid bodies) put them, so that no
@@ -45,12 +45,12 @@ use elements::{Element, Elements, Kind};
 use narrow::{Hit, Moving};
 use zones::Zones;
 
-/// The gap `δ` (in contact thicknesses) within which the guarantee counts
+/// The gap `δ` (in contact thicknesses) within which the CCD counts
 /// two elements as colliding; each collision is left `2δ` apart.
 pub const GAP: Real = 1e-3;
 
 /// The radius (in contact thicknesses) of the balls the particles of
-/// bodies without surfaces are to the guarantee: they never come closer
+/// bodies without surfaces are to the CCD: they never come closer
 /// than twice it while closing.
 pub const RADIUS: Real = 0.1;
 
@@ -63,7 +63,7 @@ pub const MOST_LEVER: Real = 4.0;
 /// Rounds of impulses before impact zones.
 pub const IMPULSE_ROUNDS: usize = 4;
 
-/// The most bytes the guarantee's broad phase keeps for its pairs of
+/// The most bytes the CCD's broad phase keeps for its pairs of
 /// elements among `bodies` ([`kept_pairs_most`]): 0 where no body
 /// collides.
 pub(crate) fn kept_pairs_most_bytes(bodies: &[Body]) -> usize {
@@ -75,18 +75,18 @@ pub(crate) fn kept_pairs_most_bytes(bodies: &[Body]) -> usize {
     }
 }
 
-/// The work a (sub)step's guarantee may do, in narrow tests and particles
+/// The work a (sub)step's CCD may do, in narrow tests and particles
 /// visited merging impact zones, per element that collides: the demos
 /// take at most 1,425 (the bullet demo's ball at 100 m/s through a cloth,
 /// 8.7 million in one step), most of them below 80 (`twist`: 78; `cover`:
 /// 2).
 pub const WORK_PER_ELEMENT: u64 = 4096;
 
-/// The work any (sub)step's guarantee may do, however few its elements:
+/// The work any (sub)step's CCD may do, however few its elements:
 /// about a tenth of a second.
 pub const MIN_WORK: u64 = 1_000_000;
 
-/// The work a (sub)step's guarantee may do among `elements` elements:
+/// The work a (sub)step's CCD may do among `elements` elements:
 /// [`WORK_PER_ELEMENT`] each, at least [`MIN_WORK`].
 pub fn work_budget(elements: usize) -> u64 {
     (elements as u64)
@@ -94,7 +94,7 @@ pub fn work_budget(elements: usize) -> u64 {
         .max(MIN_WORK)
 }
 
-/// Why the guarantee left a step's collisions as they were: the run must
+/// Why the CCD left a step's collisions as they were: the run must
 /// stop on it.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum Stopped {
@@ -104,7 +104,7 @@ pub(crate) enum Stopped {
     OverBudget(OverBudget),
 }
 
-/// A step whose collisions the guarantee could not clear within its
+/// A step whose collisions the CCD could not clear within its
 /// budget ([`work_budget`]).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct OverBudget {
@@ -118,7 +118,7 @@ pub(crate) struct OverBudget {
     pub collisions: usize,
 }
 
-/// What the guarantee did in a step: its impulses and impact zones.
+/// What the CCD did in a step: its impulses and impact zones.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct CcdReport {
     /// Collisions given an impulse (summed over the rounds and substeps).
@@ -137,14 +137,14 @@ impl CcdReport {
     }
 }
 
-/// The guarantee's buffers, kept from step to step.
+/// The CCD's buffers, kept from step to step.
 #[derive(Debug, Clone, Default)]
-pub(crate) struct Guarantee {
+pub(crate) struct Ccd {
     elements: Elements,
     sweep: Sweep,
     hits: Vec<Hit>,
     zones: Zones,
-    /// Where the particles ended the step before the guarantee (m).
+    /// Where the particles ended the step before the CCD (m).
     before: Vec<Vec3>,
     /// Zone roots, and the particles of their zones (scratch).
     involved: Vec<u32>,
@@ -157,7 +157,7 @@ pub(crate) struct Guarantee {
     work: u64,
 }
 
-/// The motion the guarantee corrects: where each particle started the
+/// The motion the CCD corrects: where each particle started the
 /// (sub)step and ended it (m), their velocities (m/s) and inverse masses
 /// (1/kg).
 pub(crate) struct Motion<'a> {
@@ -167,7 +167,7 @@ pub(crate) struct Motion<'a> {
     pub inverse_mass: &'a [Real],
 }
 
-impl Guarantee {
+impl Ccd {
     /// Clear every collision of the step of `dt` (s) between `bodies`
     /// (contact `thickness` in m, Coulomb `friction`); `rigid` bodies
     /// move as one zone each. Refused, with the state left where the step
@@ -294,7 +294,7 @@ impl Guarantee {
     /// The collisions of the motion from `start` to `end` (m) into `hits`,
     /// in the sweep's order.
     /// A collision none of whose particles can move (all pinned, or of
-    /// weight zero) is left out: nothing the guarantee does changes it,
+    /// weight zero) is left out: nothing the CCD does changes it,
     /// and the pinned paths are the scene's own.
     fn find(
         &mut self,

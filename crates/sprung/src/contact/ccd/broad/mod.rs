@@ -111,7 +111,7 @@ struct Moved {
 
 /// How many times its own size (at the start of the step) a particle of a
 /// colliding body may move against its body's mean move in one step before
-/// the motion counts as run away. The guarantee puts back motions of a few
+/// the motion counts as run away. The CCD puts back motions of a few
 /// sizes (a cloth particle flung by a deep penalty contact moved 2.9 m
 /// against its 1.7 m cloth in one step of a 150 m/s ball's catch, and was
 /// put back); an unstable ball of stiffness 2.1e9 N/m moved 340 times its

@@ -1,4 +1,4 @@
-//! The ccd stage: the guarantee behind the penalty contacts and the
+//! The ccd stage: the CCD behind the penalty contacts and the
 //! colliders ([`crate::contact::ccd`]), over each (sub)step's motion.
 
 use crate::colliders::Shape;
@@ -11,14 +11,14 @@ use crate::Real;
 use super::World;
 
 impl World {
-    /// The most memory (bytes) the guarantee's lists of the pairs of
+    /// The most memory (bytes) the CCD's lists of the pairs of
     /// elements it may test can take, at the peak of a search, where it
     /// guards bodies against each other or themselves (from
     /// [`crate::contact::ccd::kept_pairs_most`]); 0 where it does not.
     /// Bodies that press together at speed come near it; a search past
     /// it keeps nothing. Not counted: the collisions found in a step and
     /// the penalty contacts' candidate pairs.
-    pub fn guarantee_memory_most(&self) -> usize {
+    pub fn ccd_memory_most(&self) -> usize {
         let settings = &self.contacts.settings;
         if settings.enabled && settings.ccd {
             kept_pairs_most_bytes(&self.bodies)
@@ -27,7 +27,7 @@ impl World {
         }
     }
 
-    /// Whether this step's guarantee has anything to do (it is on, and
+    /// Whether this step's CCD has anything to do (it is on, and
     /// bodies may meet each other or themselves, or a sphere collider
     /// may be passed through); where not, its buffer of start positions
     /// is emptied, so the stage does nothing.
@@ -39,7 +39,7 @@ impl World {
         guarded
     }
 
-    /// Whether the guarantee that no particle passes through a surface
+    /// Whether the CCD that keeps every particle from passing through a surface
     /// has work in this world: it is on (`ContactSettings::ccd`), and
     /// bodies may meet each other or themselves, or a sphere collider may
     /// be passed through.
@@ -67,11 +67,11 @@ impl World {
     /// passes through a sphere collider, then none through another body's
     /// surface or its own where it collides with itself. Not run past the
     /// world's limits (`max_distance`, `max_speed`); refused by the
-    /// guarantee on a motion that ran away
+    /// CCD on a motion that ran away
     /// ([`crate::contact::ccd::RUNAWAY_SIZES`]) or past its budget, whose
     /// collisions would cost far more than the step: each is kept in
     /// `ccd_stop`, and the guard stage stops the run on it.
-    pub(super) fn guarantee(&mut self, dt: Real) -> CcdReport {
+    pub(super) fn ccd(&mut self, dt: Real) -> CcdReport {
         if self.ccd_start.len() != self.particles.len() {
             return CcdReport::default();
         }
@@ -102,7 +102,7 @@ impl World {
                 velocity: &mut particles.velocity,
                 inverse_mass: &particles.inverse_mass,
             };
-            let resolved = self.contacts.guarantee.resolve(
+            let resolved = self.contacts.ccd.resolve(
                 &self.bodies,
                 &self.rigid.list,
                 motion,
@@ -112,7 +112,7 @@ impl World {
             );
             match resolved {
                 Ok(done) => report = report.then(done),
-                Err(stop) => self.ccd_stop = Some(CcdStop::Guarantee(stop)),
+                Err(stop) => self.ccd_stop = Some(CcdStop::Resolve(stop)),
             }
         }
         report
@@ -125,18 +125,18 @@ impl World {
 pub(super) enum CcdStop {
     /// A particle beyond the world's limits: the guard finds which.
     Limits,
-    /// The guarantee's own refusal.
-    Guarantee(Stopped),
+    /// The CCD's own refusal.
+    Resolve(Stopped),
 }
 
 impl World {
-    /// The error of a step whose guarantee stopped short (`stop`), at the
+    /// The error of a step whose CCD stopped short (`stop`), at the
     /// end of a step of `dt` (s); the guard found no particle beyond the
     /// limits.
     pub(super) fn ccd_error(&self, stop: CcdStop, dt: Real) -> StepError {
         let named = |body: usize| format!("\"{}\"", self.bodies[body].name);
         match stop {
-            CcdStop::Guarantee(Stopped::Runaway(Runaway {
+            CcdStop::Resolve(Stopped::Runaway(Runaway {
                 particle,
                 stray,
                 size,
@@ -160,7 +160,7 @@ impl World {
                     stable_dt: self.stable_time_step(),
                 }
             }
-            CcdStop::Guarantee(Stopped::OverBudget(over)) => StepError::GuaranteeOverBudget {
+            CcdStop::Resolve(Stopped::OverBudget(over)) => StepError::CcdOverBudget {
                 step: self.steps,
                 time: self.time,
                 bodies: over
