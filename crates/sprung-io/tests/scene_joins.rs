@@ -7,7 +7,7 @@ mod common;
 
 use std::path::Path;
 
-use sprung::join::JoinLink;
+use sprung::tearing::JoinLink;
 use sprung_io::parse_scene;
 
 use common::scene_errors::assert_error;

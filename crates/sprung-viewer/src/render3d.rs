@@ -85,7 +85,7 @@ impl Renderer3d {
         }
         // Joins: rods above, springs here, in the rods' colour.
         for j in (0..world.joins.len()).filter(|&j| !world.join_broken(j)) {
-            if let sprung::join::JoinLink::Spring(_) = world.joins[j].link {
+            if let sprung::tearing::JoinLink::Spring(_) = world.joins[j].link {
                 let [a, b] = world.joins[j].particles.map(|i| x[i as usize]);
                 draw_line_3d(a, b, palette::ROD);
             }

@@ -112,7 +112,7 @@ fn a_spring_stretched_past_yield_keeps_the_rest_length_l_max_over_1_plus_y() {
 #[test]
 fn hardening_raises_the_yield_strain_by_h_times_the_relative_move() {
     let mut world = yielding(IntegratorKind::Rk4);
-    world.limits = sprung::limits::SpringLimits::default();
+    world.limits = sprung::tearing::SpringLimits::default();
     let limits = StrainLimits {
         yield_strain: Some(0.1),
         hardening: 2.0,

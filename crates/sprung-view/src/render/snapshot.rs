@@ -60,8 +60,8 @@ impl Model {
         let join_lines = (0..world.joins.len())
             .filter(|&j| !world.join_broken(j))
             .filter_map(|j| match world.joins[j].link {
-                sprung::join::JoinLink::Spring(_) => Some(world.joins[j].particles),
-                sprung::join::JoinLink::Rod(_) => None,
+                sprung::tearing::JoinLink::Spring(_) => Some(world.joins[j].particles),
+                sprung::tearing::JoinLink::Rod(_) => None,
             });
         let phase = muscle_phases(world);
         Model {

@@ -7,8 +7,8 @@ use std::sync::Arc;
 
 use crate::error::BuildError;
 use crate::gas::Gas;
-use crate::limits::StrainLimits;
 use crate::surface;
+use crate::tearing::StrainLimits;
 use crate::{Real, Vec3};
 
 /// One spring of a [`BodyData`], with particle indices local to the body.

@@ -21,7 +21,7 @@
 //! 7. **constrain** ([`crate::constrain`]): rigid rods and rigid bodies
 //!    put back on their lengths and shapes, velocities with them, so they
 //!    hold exactly at the end of every step;
-//! 8. **give** ([`crate::limits`]): springs past their yield strain take a
+//! 8. **give** ([`crate::tearing`]): springs past their yield strain take a
 //!    new rest length, those past their break strain break, and the faces
 //!    along a broken spring open;
 //! 9. **ccd**: the CCD, so that no crossing survives the step;
@@ -37,18 +37,17 @@ use crate::contact::ccd::CcdReport;
 use crate::contact::{BodyContacts, Contacts};
 use crate::forces::{AirDrag, ForceList, GasPressure, Gravity, SpringForce, StiffnessBounds};
 use crate::integrate::{Integrator, IntegratorKind, SolverSettings, StepReport};
-use crate::join::Join;
-use crate::limits::SpringLimits;
 use crate::parallel;
 use crate::particles::Particles;
 use crate::springs::Springs;
 use crate::stage::{Profile, Timer};
+use crate::tearing::Join;
+use crate::tearing::SpringLimits;
 use crate::{Real, Vec3};
 
 mod bodies;
 mod ccd;
 mod dynamics;
-mod give;
 mod observe;
 mod state;
 mod step;

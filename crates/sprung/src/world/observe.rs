@@ -55,7 +55,7 @@ impl World {
     /// The names of the potential terms of [`World::energies`], in order:
     /// the standard ones ([`measure::STANDARD_TERMS`]), then those the
     /// forces in the list give, then `plastic` where springs can yield or
-    /// break (the energy they took out, [`crate::limits`]).
+    /// break (the energy they took out, [`crate::tearing`]).
     ///
     /// ```
     /// use sprung::measure::STANDARD_TERMS;

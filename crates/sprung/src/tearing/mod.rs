@@ -1,6 +1,12 @@
-//! Springs that give way (docs/physics.md §11): past its yield strain a
-//! spring's rest length moves (plasticity), past its break strain it
-//! breaks for good.
+//! Tearing: the springs and joins that give way (docs/physics.md §11).
+//! Past its yield strain a spring's rest length moves (plasticity, or
+//! yielding); past its break strain it breaks for good, and a surface
+//! opens along it (a cloth tears, a ball bursts). Joins between bodies
+//! ([`join`]) are springs and rods like any other, and break the same way.
+//! Here are the limits and their search (this file, with the move budget
+//! of `budget.rs`), the joins (`join.rs`), and the world's give stage
+//! (`world.rs`: [`Stage::Give`](crate::Stage::Give), adding joins, the
+//! surfaces that open, what a saved state holds).
 //!
 //! The strain of a spring of rest length `L0` at length `L` is
 //! `ε = (L − L0) / L0`. At the end of each (sub)step, in spring order:
@@ -20,10 +26,12 @@
 //! the ranges of springs that have one.
 //!
 //! A full search reads every watched spring's two ends; between searches
-//! a budget of the particles' moves (`limits/budget.rs`) tells when the
+//! a budget of the particles' moves (`tearing/budget.rs`) tells when the
 //! next one is due.
 
 mod budget;
+pub mod join;
+mod world;
 
 use std::ops::Range;
 
@@ -32,6 +40,7 @@ use crate::parallel;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
 use budget::MoveBudget;
+pub use join::{Join, JoinData, JoinEnd, JoinLink};
 
 /// How a body's (or a join's) springs give way: the scene keys
 /// `break_strain`, `yield_strain` and `hardening`.
@@ -61,7 +70,7 @@ impl StrainLimits {
     /// strain.
     ///
     /// ```
-    /// use sprung::limits::StrainLimits;
+    /// use sprung::tearing::StrainLimits;
     /// use sprung::BuildError;
     ///
     /// let limits = StrainLimits { break_strain: Some(0.2), yield_strain: Some(0.3), hardening: 0.0 };

@@ -1,17 +1,17 @@
-//! Joins between bodies, and springs that give way: adding a join, the give
+//! The world's side of tearing: adding a join, the give
 //! stage, the surfaces that open along broken springs, and what of it a
 //! saved state holds.
 
 use std::collections::HashSet;
 
 use crate::error::{BuildError, ENERGY_LIMIT};
-use crate::join::{Join, JoinData, JoinEnd, JoinLink};
-use crate::limits::StrainLimits;
 use crate::state::{StateError, WorldState};
 use crate::surface;
+use crate::tearing::StrainLimits;
+use crate::tearing::{Join, JoinData, JoinEnd, JoinLink};
 use crate::Real;
 
-use super::World;
+use crate::world::World;
 
 impl World {
     /// Check `data` and add it as a join between two bodies already in the
@@ -141,9 +141,9 @@ impl World {
     }
 
     /// The give stage: springs past their limits yield or break
-    /// ([`crate::limits`]); the faces and segments along broken springs
+    /// ([`crate::tearing`]); the faces and segments along broken springs
     /// open. Nothing to do (one branch) where no spring has a limit.
-    pub(super) fn give(&mut self) {
+    pub(crate) fn give(&mut self) {
         if !self.limits.enabled() {
             return;
         }
@@ -169,7 +169,7 @@ impl World {
     /// from then on, and the gas's energy `−nRT ln V` joins the work the
     /// springs took out, so the balance closes across the burst).
     fn open_surfaces(&mut self, broken: &[usize]) {
-        let (position, time) = (&self.particles.position, self.time);
+        let (position, time) = (&self.particles.position, self.time());
         for body in &mut self.bodies {
             let cut: HashSet<(u32, u32)> = broken
                 .iter()
@@ -213,7 +213,7 @@ impl World {
 
     /// Put what the springs' limits did into `state`: the broken springs,
     /// every rest length and yield strain, the count and the work.
-    pub(super) fn save_limits(&self, state: &mut WorldState) {
+    pub(crate) fn save_limits(&self, state: &mut WorldState) {
         if !self.limits.enabled() {
             return;
         }
@@ -235,7 +235,7 @@ impl World {
     /// springs, rest lengths, yield strains and totals. A spring broken
     /// in this world but whole in the state is refused (a broken spring
     /// cannot be mended).
-    pub(super) fn check_limits_state(
+    pub(crate) fn check_limits_state(
         &self,
         state: &WorldState,
     ) -> Result<Option<LimitsState>, StateError> {
@@ -303,7 +303,7 @@ impl World {
 
     /// Put a checked [`LimitsState`] back: break its springs (opening the
     /// surfaces along them), set the rest lengths, yield strains, totals.
-    pub(super) fn restore_limits(&mut self, saved: LimitsState) {
+    pub(crate) fn restore_limits(&mut self, saved: LimitsState) {
         let newly: Vec<usize> = saved
             .broken
             .into_iter()
@@ -321,7 +321,7 @@ impl World {
 
 /// The springs' limits as a saved state holds them, checked.
 #[derive(Debug)]
-pub(super) struct LimitsState {
+pub(crate) struct LimitsState {
     broken: Vec<usize>,
     rest_length: Vec<Real>,
     yield_strain: Vec<Real>,

@@ -5,7 +5,7 @@
 //! A spring join is one more spring of the world's [`crate::Springs`],
 //! outside every body's range: the spring force, the implicit solvers and
 //! the stable-step estimate take it like any other, and it may break
-//! ([`crate::limits`]). A rod join is one more rod of [`crate::Rods`].
+//! ([`crate::tearing`]). A rod join is one more rod of [`crate::Rods`].
 
 use crate::error::BuildError;
 use crate::Real;
@@ -91,7 +91,7 @@ impl JoinData {
                 });
             }
         }
-        let limits = crate::limits::StrainLimits {
+        let limits = crate::tearing::StrainLimits {
             break_strain: self.break_strain,
             ..Default::default()
         };
