@@ -1,32 +1,10 @@
 //! The world: particles, springs, bodies, forces, colliders and the
 //! integrator, and the step that moves them.
 //!
-//! [`World::step`] is a short walk over named stages ([`Stage`], in this
-//! order; [`World::set_profiling`] times each):
-//!
-//! 1. **detect**: the candidate contact pairs between bodies;
-//! 2. **substeps**: with `substeps = "auto"`, the stable-step estimate
-//!    splits the step (every force adds its bounds,
-//!    [`crate::forces::Force::add_stiffness`]); then, per substep:
-//! 3. **muscles** set their springs' rest lengths;
-//! 4. **integrate** positions and velocities (explicit, or implicit with a
-//!    solver that reports its iterations in a [`StepReport`]), asking
-//!    [`Dynamics`] for the **forces** of the one [`ForceList`] at every
-//!    trial state it needs, and the implicit integrators for their
-//!    Jacobian products;
-//! 5. **collide**: projection colliders, where they are at the end of the
-//!    step (moving ones follow their path), move particles back out;
-//! 6. **friction**: every force's impulses ([`crate::forces::Force::apply_impulses`]):
-//!    Coulomb friction between bodies;
-//! 7. **constrain** ([`crate::constrain`]): rigid rods and rigid bodies
-//!    put back on their lengths and shapes, velocities with them, so they
-//!    hold exactly at the end of every step;
-//! 8. **give** ([`crate::tearing`]): springs past their yield strain take a
-//!    new rest length, those past their break strain break, and the faces
-//!    along a broken spring open;
-//! 9. **ccd**: the CCD, so that no crossing survives the step;
-//! 10. **guard**: a non-finite or runaway state stops the run with
-//!     [`StepError::BlowUp`](crate::StepError::BlowUp).
+//! [`World::step`] is a short walk over named stages: [`Stage`] lists
+//! them, in their order, with what each does (ARCHITECTURE.md has a
+//! section each: files, types, threads, refusals), and
+//! [`World::set_profiling`] times each.
 //!
 //! [`Stage`]: crate::Stage
 

@@ -1,5 +1,4 @@
-//! The step: a walk over its stages (detect, substeps, muscles,
-//! integrate with the forces, collide, friction, constrain, ccd, guard).
+//! The step: a walk over its stages, in the order [`Stage`] lists them.
 
 use crate::body::{self, Body};
 use crate::colliders;
