@@ -424,7 +424,7 @@ pub enum StepError {
     /// The detect stage found more candidate contact pairs than
     /// [`crate::contact::pair_limit`] allows: the contact thickness is many
     /// times the spacing of the particles. Nothing moved in the step.
-    #[error("step {step} (t = {} s): contact between bodies found more than {limit} candidate pairs (the limit: {} per particle or surface element that can touch, {} at least): the contact thickness {thickness} m, widened by the distance the particles close in a step, is too large for the spacing of the particles; lower `[contact] thickness` (or `dt`, if the bodies move fast)", Seconds(*time), crate::contact::PAIRS_PER_ELEMENT, crate::contact::MIN_PAIR_LIMIT)]
+    #[error("step {step} (t = {} s): contact between bodies found more than {limit} candidate pairs (the limit: {per_element} per particle or surface element that can touch, {least} at least): the contact thickness {thickness} m, widened by the distance the particles close in a step, is too large for the spacing of the particles; lower `[contact] thickness` (or `dt`, if the bodies move fast)", Seconds(*time))]
     TooManyContacts {
         /// Number of the step refused (1 = first step).
         step: u64,
@@ -432,6 +432,12 @@ pub enum StepError {
         time: Real,
         /// The most the scene may have.
         limit: usize,
+        /// The pairs allowed per element that can touch
+        /// ([`crate::contact::PAIRS_PER_ELEMENT`]).
+        per_element: usize,
+        /// The pairs allowed however few the elements
+        /// ([`crate::contact::MIN_PAIR_LIMIT`]).
+        least: usize,
         /// The contact thickness (m).
         thickness: Real,
     },
@@ -582,6 +588,9 @@ pub enum BlowUpReason {
         stray: Real,
         /// Its body's size (m).
         size: Real,
+        /// The most it may move, in sizes of its body
+        /// ([`crate::contact::ccd::RUNAWAY_SIZES`]).
+        sizes: Real,
     },
 }
 
@@ -591,10 +600,9 @@ impl std::fmt::Display for BlowUpReason {
             BlowUpReason::NonFinite => write!(f, "has a non-finite position or velocity"),
             BlowUpReason::TooFar(d) => write!(f, "ran away to {d:.3e} m from the origin"),
             BlowUpReason::TooFast(v) => write!(f, "ran away at {v:.3e} m/s"),
-            BlowUpReason::OutOfShape { stray, size } => write!(
+            BlowUpReason::OutOfShape { stray, size, sizes } => write!(
                 f,
-                "moved {stray:.3e} m against the rest of its body in one step, more than {} times the body's size {size:.3e} m",
-                crate::contact::ccd::RUNAWAY_SIZES
+                "moved {stray:.3e} m against the rest of its body in one step, more than {sizes} times the body's size {size:.3e} m"
             ),
         }
     }

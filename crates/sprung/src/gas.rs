@@ -7,9 +7,8 @@
 //! held after the last) and leak exponentially at `leak_rate` from
 //! `leak_start` on, so a balloon can slowly deflate and sag.
 
-use crate::body::Body;
 use crate::error::BuildError;
-use crate::{Real, Vec3};
+use crate::Real;
 
 /// How the enclosed volume is measured for the pressure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -33,30 +32,6 @@ impl VolumeModel {
             VolumeModel::Exact => "exact",
             VolumeModel::BoundingBox => "bounding_box",
             VolumeModel::BoundingEllipsoid => "bounding_ellipsoid",
-        }
-    }
-
-    /// The volume of `body` at `position` by this model (m³, or m² for a
-    /// 2D body); 0 for a body that is not closed.
-    pub fn volume(self, body: &Body, position: &[Vec3]) -> Real {
-        let Some(exact) = body.enclosed_volume(position) else {
-            return 0.0;
-        };
-        if self == VolumeModel::Exact {
-            return exact;
-        }
-        let points = &position[body.particles.clone()];
-        let low = points.iter().copied().fold(Vec3::INFINITY, Vec3::min);
-        let high = points.iter().copied().fold(Vec3::NEG_INFINITY, Vec3::max);
-        let size = (high - low).max(Vec3::ZERO);
-        let (boxed, fraction) = if body.is_planar() {
-            (size.x * size.y, std::f64::consts::FRAC_PI_4)
-        } else {
-            (size.x * size.y * size.z, std::f64::consts::PI / 6.0)
-        };
-        match self {
-            VolumeModel::BoundingEllipsoid => fraction * boxed,
-            _ => boxed,
         }
     }
 

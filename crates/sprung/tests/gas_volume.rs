@@ -334,9 +334,9 @@ fn model_volumes(world: &World) -> [Real; 3] {
     let body = &world.bodies[0];
     let x = &world.particles.position;
     [
-        VolumeModel::Exact.volume(body, x),
-        VolumeModel::BoundingBox.volume(body, x),
-        VolumeModel::BoundingEllipsoid.volume(body, x),
+        body.gas_volume(VolumeModel::Exact, x),
+        body.gas_volume(VolumeModel::BoundingBox, x),
+        body.gas_volume(VolumeModel::BoundingEllipsoid, x),
     ]
 }
 
@@ -391,7 +391,7 @@ fn volume_models_give_the_box_and_ellipsoid_volumes() {
 
 #[test]
 fn volume_models_give_zero_for_a_body_that_is_not_closed() {
-    // VolumeModel::volume's contract: "0 for a body that is not closed",
+    // Body::gas_volume's contract: "0 for a body that is not closed",
     // for every model (a box with its top missing has a bounding box of
     // 1 m³, but encloses nothing).
     let (position, mut faces) = box_surface(Vec3::ZERO, Vec3::ONE);

@@ -5,7 +5,7 @@
 
 use std::ops::Range;
 
-use crate::gas::Gas;
+use crate::gas::{Gas, VolumeModel};
 use crate::surface;
 use crate::{Real, Vec3};
 
@@ -83,6 +83,31 @@ pub struct Body {
 }
 
 impl Body {
+    /// The volume of this body at `position` by the gas's volume `model`
+    /// (m³, or m² for a 2D body); 0 for a body that is not closed.
+    pub fn gas_volume(&self, model: VolumeModel, position: &[Vec3]) -> Real {
+        let body = self;
+        let Some(exact) = body.enclosed_volume(position) else {
+            return 0.0;
+        };
+        if model == VolumeModel::Exact {
+            return exact;
+        }
+        let points = &position[body.particles.clone()];
+        let low = points.iter().copied().fold(Vec3::INFINITY, Vec3::min);
+        let high = points.iter().copied().fold(Vec3::NEG_INFINITY, Vec3::max);
+        let size = (high - low).max(Vec3::ZERO);
+        let (boxed, fraction) = if body.is_planar() {
+            (size.x * size.y, std::f64::consts::FRAC_PI_4)
+        } else {
+            (size.x * size.y * size.z, std::f64::consts::PI / 6.0)
+        };
+        match model {
+            VolumeModel::BoundingEllipsoid => fraction * boxed,
+            _ => boxed,
+        }
+    }
+
     /// The body's springs (indices in the world's [`crate::Springs`]) in
     /// the order the scene gave them ([`BodyData::springs`]), the order its
     /// spring indices (muscles, outputs) count in; `springs` ranges over

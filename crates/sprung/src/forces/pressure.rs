@@ -123,7 +123,7 @@ impl Force for GasPressure {
     fn add_potential_energy(&self, context: &ForceContext, energy: &mut Real) {
         for body in context.bodies {
             let Some(gas) = &body.gas else { continue };
-            let volume = gas.volume_model.volume(body, context.position);
+            let volume = body.gas_volume(gas.volume_model, context.position);
             if volume > 0.0 {
                 *energy -= gas.nrt_at(context.time) * volume.ln();
             }
@@ -140,7 +140,7 @@ impl Force for GasPressure {
             if gas.volume_model != VolumeModel::Exact {
                 continue;
             }
-            let volume = gas.volume_model.volume(body, x);
+            let volume = body.gas_volume(gas.volume_model, x);
             if volume > 0.0 {
                 let surface = self.surfaces.surface(index, body, x.len());
                 add_volume_gradient(surface, x, 1.0, &mut self.gradient);
@@ -197,6 +197,6 @@ pub fn pressure(body: &Body, position: &[Vec3], time: Real) -> Option<Real> {
     if !body.closed {
         return Some(0.0);
     }
-    let volume = gas.volume_model.volume(body, position);
+    let volume = body.gas_volume(gas.volume_model, position);
     (volume > 0.0).then(|| gas.nrt_at(time) / volume)
 }

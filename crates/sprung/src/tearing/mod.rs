@@ -4,9 +4,10 @@
 //! opens along it (a cloth tears, a ball bursts). Joins between bodies
 //! ([`join`]) are springs and rods like any other, and break the same way.
 //! Here are the limits and their search (this file, with the move budget
-//! of `budget.rs`), the joins (`join.rs`), and the world's give stage
-//! (`world.rs`: [`Stage::Give`](crate::Stage::Give), adding joins, the
-//! surfaces that open, what a saved state holds).
+//! of `budget.rs`) and the joins (`join.rs`); the world's side, the give
+//! stage ([`Stage::Give`](crate::Stage::Give): adding joins, the surfaces
+//! that open, what a saved state holds), is `world/tearing.rs`, as every
+//! stage's is in `world/`.
 //!
 //! The strain of a spring of rest length `L0` at length `L` is
 //! `ε = (L − L0) / L0`. At the end of each (sub)step, in spring order:
@@ -31,7 +32,6 @@
 
 mod budget;
 pub mod join;
-mod world;
 
 use std::ops::Range;
 

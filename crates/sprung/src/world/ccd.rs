@@ -155,7 +155,11 @@ impl World {
                         ),
                         None => "no body".into(),
                     },
-                    reason: BlowUpReason::OutOfShape { stray, size },
+                    reason: BlowUpReason::OutOfShape {
+                        stray,
+                        size,
+                        sizes: crate::contact::ccd::RUNAWAY_SIZES,
+                    },
                     dt,
                     stable_dt: self.stable_time_step(),
                 }

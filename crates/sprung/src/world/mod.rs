@@ -29,6 +29,7 @@ mod dynamics;
 mod observe;
 mod state;
 mod step;
+mod tearing;
 
 pub use dynamics::Dynamics;
 pub use observe::PLASTIC;

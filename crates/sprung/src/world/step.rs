@@ -355,6 +355,8 @@ impl World {
             step: self.steps + 1,
             time: self.time,
             limit: too_many.limit,
+            per_element: crate::contact::PAIRS_PER_ELEMENT,
+            least: crate::contact::MIN_PAIR_LIMIT,
             thickness: self.contacts.settings.thickness,
         }
     }

@@ -11,7 +11,7 @@ use crate::tearing::StrainLimits;
 use crate::tearing::{Join, JoinData, JoinEnd, JoinLink};
 use crate::Real;
 
-use crate::world::World;
+use super::World;
 
 impl World {
     /// Check `data` and add it as a join between two bodies already in the
@@ -187,7 +187,7 @@ impl World {
             // before it opens: it leaves with the gas.
             let gas_energy = match (&body.gas, body.closed) {
                 (Some(gas), true) => {
-                    let volume = gas.volume_model.volume(body, position);
+                    let volume = body.gas_volume(gas.volume_model, position);
                     (volume > 0.0).then(|| -gas.nrt_at(time) * volume.ln())
                 }
                 _ => None,
