@@ -5,7 +5,10 @@ imports room B when code of A that ships (comments, doc comments,
 `tests.rs` files and everything after a `#[cfg(test)]` line left out)
 names `crate::B` or an item `lib.rs` re-exports from B.
 
-    scripts/imports.py [SRC]      # SRC defaults to crates/sprung/src
+    scripts/imports.py [--check] [SRC]   # SRC defaults to crates/sprung/src
+
+With --check it fails (exit 1) when any circle is left: scripts/test.sh
+runs it so, and the engine keeps its rooms in floors.
 
 Prints the rooms, the arrows, the circles (strongly connected sets of
 two or more rooms) and, for each arrow inside a circle, its two rooms and
@@ -15,7 +18,9 @@ to cut for the rooms to stack in floors.
 import os, re, sys
 from collections import defaultdict
 
-src = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "crates/sprung/src")
+args = [a for a in sys.argv[1:] if a != "--check"]
+check = "--check" in sys.argv[1:]
+src = args[0] if args else os.path.join(os.path.dirname(__file__), "..", "crates/sprung/src")
 rooms = sorted(n[:-3] if n.endswith(".rs") else n for n in os.listdir(src)
                if (n.endswith(".rs") and n != "lib.rs") or os.path.isdir(os.path.join(src, n)))
 
@@ -94,8 +99,11 @@ for r in rooms:
 circles = [sorted(c) for c in sccs if len(c) > 1]
 of = {r: i for i, c in enumerate(circles) for r in c}
 back = [(a, b, arrows[a][b]) for a in rooms for b in sorted(arrows[a]) if a in of and of.get(b) == of[a]]
+print(f"rooms that import forces: {', '.join(a for a in rooms if 'forces' in arrows[a]) or 'none'}")
 print(f"rooms: {len(rooms)}; arrows: {sum(len(v) for v in arrows.values())}")
 print(f"circles: {len(circles)}" + "".join(f"\n  {len(c)} rooms: {', '.join(c)}" for c in circles))
 print(f"arrows inside a circle: {len(back)}")
 for a, b, where in back:
     print(f"  {a} -> {b}  ({where})")
+if check and circles:
+    sys.exit("the engine's rooms import each other in a circle: cut an arrow above")

@@ -64,6 +64,9 @@ echo "== npm ci (crates/sprung-viewer/web-tests)"
 
 scripts/build-web.sh
 
+echo "== the engine's rooms stack in floors (scripts/imports.py --check)"
+python3 scripts/imports.py --check
+
 echo "== cargo test --workspace"
 SPRUNG_GPU_TESTS=require cargo test --workspace "$@"
 

@@ -14,7 +14,7 @@ mod common;
 
 use common::Rng;
 use sprung::build::{self, ClothSprings};
-use sprung::colliders::ColliderContacts;
+use sprung::forces::ColliderContacts;
 use sprung::forces::{
     AirDrag, Force, ForceContext, GasPressure, JacobianScale, MouseSpring, SpringForce,
 };
@@ -380,7 +380,7 @@ fn the_body_contact_velocity_jacobian_is_exact() {
         (&over, "particle over a triangle"),
     ] {
         assert_eq!(world.active_contacts(), 1, "{what}");
-        let mut force = sprung::contact::BodyContacts::new();
+        let mut force = sprung::forces::BodyContacts::new();
         let p = random(world.particles.len(), &mut rng);
         let analytic = product(&mut force, world, VELOCITY, &p);
         let numeric = difference(&mut force, world, VELOCITY, &p);
@@ -408,7 +408,7 @@ fn the_body_contact_position_jacobian_leaves_out_only_the_normals_turning() {
     // The default stiffness, m (v_ref / h)² for the pair's reduced mass
     // (½ kg), docs/physics.md §8.
     let k = 0.5 * (sprung::contact::REFERENCE_SPEED / thickness).powi(2);
-    let mut force = sprung::contact::BodyContacts::new();
+    let mut force = sprung::forces::BodyContacts::new();
     for _ in 0..3 {
         let p = random(2, &mut rng);
         let analytic = product(&mut force, &world, POSITION, &p);

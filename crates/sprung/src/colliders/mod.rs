@@ -28,13 +28,11 @@
 //! particles do not push the collider back.
 
 mod constraint;
-mod force;
 mod path;
 mod response;
 
 pub(crate) use constraint::add_contact_constraints;
 pub use constraint::ContactConstraint;
-pub use force::ColliderContacts;
 pub use path::Path;
 pub use response::FRICTION_REGULARISATION;
 pub(crate) use response::{penalty_force, project};

@@ -47,14 +47,32 @@
 //! particles are left out of these passes and taken last, on one thread,
 //! through the bodies' motions ([`super::rigid_friction`]).
 //!
-//! [`BodyContacts`]: super::BodyContacts
+//! [`BodyContacts`]: crate::forces::BodyContacts
 
-use super::force::{Pushed, Spans};
 use super::pairs::Touch;
 use super::rigid_friction;
-use crate::forces::ImpulseContext;
+use super::ImpulseContext;
 use crate::parallel;
 use crate::{Real, Vec3};
+
+/// A count of touches per bit length of their spans (highest particle less
+/// lowest): entry `b` counts those spanning `2^(b-1)` to `2^b - 1`
+/// particles (entry 0, one particle), the last entry those spanning
+/// `2^30` or more.
+pub(crate) type Spans = [usize; 32];
+
+/// One touch as the last evaluation pushed it: its normal force, and
+/// where its particles lie (what the threads adding its force and its
+/// friction choose it by).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Pushed {
+    /// The normal force (N), not negative.
+    pub push: Real,
+    /// The touch's lowest particle.
+    pub lowest: u32,
+    /// Its highest particle less its lowest.
+    pub span: u32,
+}
 
 /// The narrowest group of particles (a power of two) friction takes
 /// touches by: narrower ones would leave the threads too little each.

@@ -48,7 +48,7 @@
 //! over chunks of elements and puts what it found in a fixed order (by
 //! particle, then element, then in buckets of clearance, below), so the
 //! pairs are the same whatever the number of threads. The penalty force
-//! ([`BodyContacts`]) evaluates only those pairs, at every trial state
+//! ([`BodyContacts`](crate::forces::BodyContacts)) evaluates only those pairs, at every trial state
 //! the integrator asks for, measuring them in parallel and adding their
 //! forces in the pairs' order.
 //!
@@ -88,25 +88,23 @@ pub mod inside;
 
 mod buckets;
 mod detect;
-mod force;
-mod friction;
+pub(crate) mod friction;
 mod links;
-mod pairs;
+pub(crate) mod pairs;
 #[cfg(test)]
 mod random;
-mod rigid_friction;
+pub(crate) mod rigid_friction;
 mod state;
 
 pub(crate) use detect::TooManyPairs;
 pub use detect::{pair_limit, MIN_PAIR_LIMIT, PAIRS_PER_ELEMENT};
-pub use force::BodyContacts;
 pub(crate) use pairs::{
     ContactPairs, EdgeEdge, PointElement, PointPoint, PointSegment, PointTriangle,
 };
 pub(crate) use rigid_friction::RigidParts;
 
 use crate::error::BuildError;
-use crate::Real;
+use crate::{Real, Vec3};
 
 /// The speed (m/s) a particle arriving at a contact is stopped from within
 /// the thickness by the default stiffness.
@@ -280,6 +278,27 @@ pub fn effective_mass(weights: &[Real], inverse_mass: &[Real]) -> Option<Real> {
         .filter(|&m| m > 0.0)
         .fold(Real::INFINITY, Real::min);
     (inverse > 0.0).then(|| 1.0 / inverse.max(heaviest_inverse))
+}
+
+/// The state at the end of a (sub)step that the friction stage changes by
+/// impulses ([`Force::apply_impulses`](crate::forces::Force::apply_impulses)), and the world it belongs to.
+#[derive(Debug)]
+pub struct ImpulseContext<'a> {
+    /// Simulated time at the end of the (sub)step (s).
+    pub time: Real,
+    /// The (sub)step's length (s).
+    pub dt: Real,
+    /// Positions (m), to move by a velocity change times `dt`.
+    pub position: &'a mut [Vec3],
+    /// Velocities (m/s), to change by the impulses over the masses.
+    pub velocity: &'a mut [Vec3],
+    /// Inverse masses (1/kg), zero for pinned particles.
+    pub inverse_mass: &'a [Real],
+    /// Contact between bodies: settings and the step's candidate pairs.
+    pub contacts: &'a Contacts,
+    /// The rigid bodies' particles and motions: impulses on them act on
+    /// the bodies' motions.
+    pub(crate) rigid: RigidParts<'a>,
 }
 
 #[cfg(test)]

@@ -37,7 +37,9 @@
 //! with `world.forces.push(...)` (or [`ForceList::set`] for one of a kind).
 
 mod applied;
+mod body_contacts;
 mod bounds;
+mod colliders;
 mod drag;
 mod faces;
 mod gravitation;
@@ -50,8 +52,11 @@ mod spring;
 mod wind;
 mod wind_field;
 
+pub use crate::contact::ImpulseContext;
 pub use applied::AppliedForces;
+pub use body_contacts::BodyContacts;
 pub use bounds::StiffnessBounds;
+pub use colliders::ColliderContacts;
 pub use drag::AirDrag;
 pub use gravitation::{
     gravitating_pairs, gravitating_particles, Gravitation, GRAVITATIONAL_CONSTANT, MAX_GRAVITATING,
@@ -70,7 +75,7 @@ pub use wind_field::{Gusts, Turbulence, TurbulentMode, WindField};
 
 use crate::body::Body;
 use crate::colliders::Collider;
-use crate::contact::{Contacts, RigidParts};
+use crate::contact::Contacts;
 use crate::springs::Springs;
 use crate::{Real, Vec3};
 
@@ -95,27 +100,6 @@ pub struct ForceContext<'a> {
     pub colliders: &'a [Collider],
     /// Contact between bodies: settings and the step's candidate pairs.
     pub contacts: &'a Contacts,
-}
-
-/// The state at the end of a (sub)step that the friction stage changes by
-/// impulses ([`Force::apply_impulses`]), and the world it belongs to.
-#[derive(Debug)]
-pub struct ImpulseContext<'a> {
-    /// Simulated time at the end of the (sub)step (s).
-    pub time: Real,
-    /// The (sub)step's length (s).
-    pub dt: Real,
-    /// Positions (m), to move by a velocity change times `dt`.
-    pub position: &'a mut [Vec3],
-    /// Velocities (m/s), to change by the impulses over the masses.
-    pub velocity: &'a mut [Vec3],
-    /// Inverse masses (1/kg), zero for pinned particles.
-    pub inverse_mass: &'a [Real],
-    /// Contact between bodies: settings and the step's candidate pairs.
-    pub contacts: &'a Contacts,
-    /// The rigid bodies' particles and motions: impulses on them act on
-    /// the bodies' motions.
-    pub(crate) rigid: RigidParts<'a>,
 }
 
 /// The weights of a Jacobian product: `position ∂f/∂x·p + velocity ∂f/∂v·p`.

@@ -9,10 +9,12 @@
 //! [`Stage`]: crate::Stage
 
 use crate::body::Body;
-use crate::colliders::{Collider, ColliderContacts};
+use crate::colliders::Collider;
 use crate::constrain::{ConstraintSettings, Muscles, RigidBodies, RodReport, Rods};
 use crate::contact::ccd::CcdReport;
-use crate::contact::{BodyContacts, Contacts};
+use crate::contact::Contacts;
+use crate::forces::BodyContacts;
+use crate::forces::ColliderContacts;
 use crate::forces::{AirDrag, ForceList, GasPressure, Gravity, SpringForce, StiffnessBounds};
 use crate::integrate::{Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::parallel;

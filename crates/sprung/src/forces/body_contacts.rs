@@ -1,12 +1,12 @@
 //! The penalty force of the contacts between bodies, as an entry of the
-//! world's force list (see the module documentation of [`super`]).
+//! world's force list (see the module documentation of [`crate::contact`]).
 
-use super::pairs::{Touch, Touches, PREFETCH_TOUCHES};
-use super::{friction, rigid_friction};
-use crate::forces::NormalPush;
-use crate::forces::{
-    Force, ForceContext, ImpulseContext, JacobianScale, Linearization, StiffnessBounds,
+use super::{
+    Force, ForceContext, ImpulseContext, JacobianScale, Linearization, NormalPush, StiffnessBounds,
 };
+use crate::contact::friction::{self, Pushed, Spans};
+use crate::contact::pairs::{Touch, Touches, PREFETCH_TOUCHES};
+use crate::contact::{self as contact, rigid_friction};
 use crate::parallel;
 use crate::{Real, Vec3};
 use rayon::prelude::*;
@@ -38,25 +38,6 @@ pub struct BodyContacts {
     rigid_friction: rigid_friction::Scratch,
 }
 
-/// A count of touches per bit length of their spans (highest particle less
-/// lowest): entry `b` counts those spanning `2^(b-1)` to `2^b - 1`
-/// particles (entry 0, one particle), the last entry those spanning
-/// `2^30` or more.
-pub(crate) type Spans = [usize; 32];
-
-/// One touch as the last evaluation pushed it: its normal force, and
-/// where its particles lie (what the threads adding its force and its
-/// friction choose it by).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Pushed {
-    /// The normal force (N), not negative.
-    pub push: Real,
-    /// The touch's lowest particle.
-    pub lowest: u32,
-    /// Its highest particle less its lowest.
-    pub span: u32,
-}
-
 /// A pushing pair at the linearisation state: its touch and how it pushed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Active {
@@ -80,7 +61,7 @@ impl BodyContacts {
 }
 
 /// The stiffness and damping of `touch` in `context`, from the effective
-/// mass of its two sides at their closest points ([`super::effective_mass`]).
+/// mass of its two sides at their closest points ([`contact::effective_mass`]).
 fn coefficients(context: &ForceContext, touch: &Touch) -> (Real, Real) {
     let count = touch.count;
     let inverse_mass: [Real; 4] = std::array::from_fn(|i| {
@@ -91,7 +72,7 @@ fn coefficients(context: &ForceContext, touch: &Touch) -> (Real, Real) {
         }
     });
     // Nothing of weight moves: the first particle's mass.
-    let mass = super::effective_mass(&touch.weights[..count], &inverse_mass[..count])
+    let mass = contact::effective_mass(&touch.weights[..count], &inverse_mass[..count])
         .unwrap_or_else(|| context.mass[touch.particles[0] as usize]);
     context.contacts.settings.coefficients(mass)
 }
@@ -185,7 +166,7 @@ impl Force for BodyContacts {
     /// elements of one body count it once, as it touches only the closest.
     fn add_stiffness(&self, context: &ForceContext, bounds: &mut StiffnessBounds) {
         let settings = &context.contacts.settings;
-        let rate = super::REFERENCE_SPEED / settings.thickness;
+        let rate = contact::REFERENCE_SPEED / settings.thickness;
         context.contacts.pairs.for_each_member(|members| {
             for i in members {
                 let w = context.inverse_mass[i as usize];

@@ -8,10 +8,8 @@
 //! (which would make the matrix indefinite inside) and the friction force
 //! are left out: [`Linearization::Approximate`].
 
-use super::{Collider, ContactResponse};
-use crate::forces::{
-    Force, ForceContext, JacobianScale, Linearization, NormalPush, StiffnessBounds,
-};
+use super::{Force, ForceContext, JacobianScale, Linearization, NormalPush, StiffnessBounds};
+use crate::colliders::{self, Collider, ContactResponse};
 use crate::{Real, Vec3};
 
 /// The penalty forces of the world's colliders (reads
@@ -36,7 +34,7 @@ impl Force for ColliderContacts {
 
     fn accumulate(&mut self, context: &ForceContext, force: &mut [Vec3]) {
         for collider in context.colliders {
-            super::penalty_force(
+            colliders::penalty_force(
                 collider,
                 context.time,
                 context.position,
