@@ -56,7 +56,8 @@ def names(text):
                 c = text[i]
                 depth += c == "{"
                 depth -= c == "}"
-                top += c if depth == 1 and c not in "{}" else ("" if depth > 1 else "")
+                if depth == 1 and c not in "{}":
+                    top += c
                 i += 1
             for part in top.split(","):
                 w = re.match(r"\s*(\w+)", part)

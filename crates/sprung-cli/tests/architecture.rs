@@ -116,16 +116,13 @@ fn unmapped(architecture: &str, entries: &[String]) -> Vec<String> {
     };
     entries
         .iter()
-        .filter(|entry| {
-            let trimmed = entry.trim_end_matches('/');
-            match trimmed.rfind('/') {
-                _ if entry.ends_with('/') => row(entry).is_none(),
-                None => row(entry).is_none(),
-                Some(slash) => {
-                    let (folder, name) = (&entry[..=slash], &entry[slash + 1..]);
-                    !row(folder).is_some_and(|named| named.contains(name))
-                }
+        .filter(|entry| match entry.rfind('/') {
+            // A folder, or a file at the top: a row of its own.
+            Some(slash) if slash + 1 < entry.len() => {
+                let (folder, name) = entry.split_at(slash + 1);
+                !row(folder).is_some_and(|named| named.contains(name))
             }
+            _ => row(entry).is_none(),
         })
         .cloned()
         .collect()
