@@ -5,8 +5,9 @@
 # a real X server included), then run every example program of the engine
 # (crates/sprung/examples/*.rs, in the dev profile the tests build in,
 # each given a temporary folder for its files), then build the Python
-# package's wheel (maturin) into a virtual environment under target/ and
-# run its tests (pytest, python/tests): it fails if one fails.
+# package's wheel (maturin) into a virtual environment under target/,
+# check its types and its extension's stubs (mypy, mypy.stubtest) and run
+# its tests (pytest, python/tests): it fails if one fails.
 #
 #   scripts/test.sh                 everything
 #   scripts/test.sh -- NAME         extra arguments go to `cargo test --workspace`
@@ -27,8 +28,8 @@
 #     package-lock.json; it drives the Debian Chromium, it downloads no
 #     browser);
 #   - a virtual environment target/python-venv with maturin, numpy,
-#     pytest, Pillow, pandas and Dask (python/requirements-test.txt, from
-#     PyPI); the sweep's tests start a Dask scheduler and two workers on
+#     pytest, Pillow, pandas, Dask and mypy (python/requirements-test.txt,
+#     from PyPI); the sweep's tests start a Dask scheduler and two workers on
 #     127.0.0.1.
 # Node.js 20 or newer and Python 3.9 or newer (python3, with its venv
 # module) must be on the PATH (they are on the project's machines).
@@ -89,6 +90,9 @@ fi
 rm -rf target/wheels
 (cd python && "../$venv/bin/maturin" build -q --interpreter "../$venv/bin/python" -o ../target/wheels)
 "$venv/bin/pip" install -q --disable-pip-version-check --force-reinstall --no-deps target/wheels/sprung-*.whl
+echo "== python: the package and its stubs (mypy; mypy.stubtest against the wheel)"
+(cd python && "../$venv/bin/python" -m mypy)
+"$venv/bin/python" -m mypy.stubtest sprung._native
 # The runs compared with the command line use the `sprung` that
 # `cargo test` built.
 SPRUNG_BIN="$PWD/target/debug/sprung" "$venv/bin/pytest" -q -p no:cacheprovider python/tests

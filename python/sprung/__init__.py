@@ -15,13 +15,16 @@ pressures in N/m). The guide is docs/python.md in the repository.
 
 import base64
 import os
-from typing import Dict, Iterable, Mapping, Optional, Union
+from typing import Mapping, Optional, Union
 
 import numpy as np
 
 from . import _native
 from ._errors import BlowUp, MeshError, SceneError, StateError, StepError
 from ._native import Batch, Body, World, integrators
+# The function, by the name of its module (which ``python -m sprung.sweep``
+# runs): importing the module later leaves this name as it is.
+from .sweep import sweep
 
 __version__ = _native.__version__
 
@@ -137,6 +140,7 @@ def run(scene: Union[PathLike, World], steps: Optional[int] = None,
             (also written to ``out``).
         KeyboardInterrupt: Ctrl-C, between steps (rows so far written to ``out``).
     """
+    target: Union[str, World]
     if isinstance(scene, World):
         if set:
             raise ValueError("set: overrides apply to a scene file; "
@@ -168,7 +172,9 @@ def run(scene: Union[PathLike, World], steps: Optional[int] = None,
     csv, error = _native.run(target, steps, time, every, integrator, out, format)
     table = Diagnostics(csv)
     if error is not None:
-        error.diagnostics = table
+        # A StepError, a BlowUp or Ctrl-C's KeyboardInterrupt: each carries
+        # the rows before it.
+        error.diagnostics = table  # type: ignore[attr-defined]
         raise error
     return table
 
@@ -263,36 +269,3 @@ def plot(diagnostics: Union[Diagnostics, PathLike, str], width: int = 1000,
         title = name or os.path.basename(os.path.dirname(os.path.abspath(path)))
     pictures = _native.plot(text, title, width, height)
     return Plots((key, Png(data, key)) for key, data in pictures)
-
-
-def sweep(scene: PathLike, grid: Optional[Mapping[str, Iterable[object]]] = None,
-          samples: Optional[int] = None,
-          ranges: Optional[Mapping[str, "tuple[float, float]"]] = None, seed: int = 0,
-          steps: Optional[int] = None, time: Optional[float] = None,
-          every: Optional[int] = None, out: PathLike = "out/sweep", scheduler=None,
-          threads: Optional[int] = None, progress: bool = True,
-          frames: Optional[str] = None):
-    """Run ``scene`` once per point of a grid (``{KEY: [values]}``, every
-    combination) or of a Latin hypercube (``samples`` points over
-    ``ranges``, ``{KEY: (low, high)}``, reproducible from ``seed``), with
-    the dotted keys of ``--set``; ``steps``, ``time`` and ``every`` as for
-    ``run``.
-
-    Each run writes ``OUT/runs/<id>/`` (``scene.toml``, ``diagnostics.csv``),
-    complete or not at all, and ``OUT/sweep.csv`` gets a row per run: the
-    swept values, ``id``, ``status`` (``ok``, ``blew_up``, ``error``),
-    ``message``, ``steps``, ``time``, ``wall_s`` and the last diagnostics
-    row as ``final.*`` columns. A rerun into the same ``out`` skips the runs
-    that ended.
-
-    ``scheduler``: None runs on this machine's cores (``threads`` at once,
-    default every core), without Dask; a ``dask.distributed.Client`` or a
-    scheduler's address (``tcp://HOST:PORT``) sends each run to that
-    cluster as a task. ``frames`` (``vtu``, ``vtk``, ``obj``) also writes
-    each run's frames. Returns the rows as dicts. See docs/sweeps.md.
-    """
-    from ._sweep import sweep as run_sweep
-    grid = None if grid is None else {key: list(values) for key, values in grid.items()}
-    return run_sweep(scene, grid=grid, samples=samples, ranges=ranges, seed=seed, steps=steps,
-                     time=time, every=every, out=out, scheduler=scheduler, threads=threads,
-                     progress=progress, frames=frames)

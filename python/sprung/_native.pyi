@@ -6,17 +6,19 @@ view: it cannot outlive its World or change under a program's feet.
 """
 
 import os
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from typing import Dict, List, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
+
+__all__ = ["__version__", "MAX_VALUE_DEPTH", "World", "Body", "Batch", "load", "loads",
+           "read_scene", "write_output", "run", "animate", "plot", "columns", "integrators",
+           "effective_scene", "parse_value"]
 
 __version__: str
 MAX_VALUE_DEPTH: int
 """The most levels of lists and dicts a ``set=`` value (or a scene's
 value) may nest: 32."""
-
-ArrayLike = Union[npt.ArrayLike, Sequence[Sequence[float]]]
 
 
 def integrators() -> List[str]:
@@ -67,15 +69,16 @@ def parse_value(text: str) -> object:
     """A command line's VALUE as ``--set`` reads it (TOML, or a bare word)."""
 
 
-def run(scene: Union[str, "World"], steps: Optional[int], time: Optional[float],
-        every: Optional[int], integrator: Optional[str],
-        out: Optional[str], format: Optional[str] = None) -> Tuple[str, Optional[BaseException]]:
+def run(scene: Union[str, "World"], steps: Optional[int] = None,
+        time: Optional[float] = None, every: Optional[int] = None,
+        integrator: Optional[str] = None, out: Optional[str] = None,
+        format: Optional[str] = None) -> Tuple[str, Optional[BaseException]]:
     """Run a scene; the diagnostics CSV text and the error that stopped it
     early, if any (see ``sprung.run``)."""
 
 
-def animate(world: "World", time: Optional[float], steps: Optional[int],
-            fps: float, width: int, height: int) -> bytes:
+def animate(world: "World", time: Optional[float] = None, steps: Optional[int] = None,
+            fps: float = 25.0, width: int = 480, height: int = 360) -> bytes:
     """Step ``world`` and return an animated GIF of it (see ``sprung.animate``)."""
 
 
@@ -90,6 +93,7 @@ def columns(text: str) -> List[Tuple[str, npt.NDArray]]:
     float64 with NaN for empty cells)."""
 
 
+@final
 class World:
     """A simulated world: particles joined by springs, bodies, colliders.
 
@@ -162,12 +166,17 @@ class World:
     def copy(self) -> "World":
         """A new World of the same scene in the same state (gas nRT set from
         Python and external forces included)."""
+    def __copy__(self) -> "World":
+        """``copy.copy(world)``: as ``copy``."""
+    def __deepcopy__(self, memo: object) -> "World":
+        """``copy.deepcopy(world)``: as ``copy``."""
     def picture(self, width: int = 640, height: int = 480) -> bytes:
         """A PNG of the world now, drawn by ``sprung render``'s renderer."""
     def _repr_png_(self) -> bytes:
         """The picture Jupyter shows inline (640 × 480)."""
 
 
+@final
 class Body:
     """One body of a World, read live; it keeps its World alive."""
 
@@ -192,11 +201,12 @@ class Body:
         """Centre of mass (m), ``(3,)`` or ``(2,)``."""
 
 
+@final
 class Batch:
     """Worlds stepped together on Rust threads with the GIL released, each
     bit for bit as if stepped alone, on any number of threads."""
 
-    def __init__(self, worlds: Sequence[World], threads: Optional[int] = None) -> None:
+    def __new__(cls, worlds: Sequence[World], threads: Optional[int] = None) -> "Batch":
         """``worlds`` (distinct Worlds) on ``threads`` threads (default:
         every core, or ``SPRUNG_THREADS``)."""
     @property

@@ -5,8 +5,10 @@
 //! worlds and does the work, with the GIL released while it steps.
 
 mod batch;
+mod body;
 mod errors;
 mod input;
+mod load;
 mod output;
 mod overrides;
 mod pictures;
@@ -23,10 +25,10 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // The most levels of lists and dicts a `set=` value may nest.
     m.add("MAX_VALUE_DEPTH", sprung_io::scene::MAX_VALUE_DEPTH)?;
     m.add_class::<world::World>()?;
-    m.add_class::<world::Body>()?;
+    m.add_class::<body::Body>()?;
     m.add_class::<batch::Batch>()?;
-    m.add_function(wrap_pyfunction!(world::load, m)?)?;
-    m.add_function(wrap_pyfunction!(world::loads, m)?)?;
+    m.add_function(wrap_pyfunction!(load::load, m)?)?;
+    m.add_function(wrap_pyfunction!(load::loads, m)?)?;
     m.add_function(wrap_pyfunction!(input::read_scene, m)?)?;
     m.add_function(wrap_pyfunction!(output::write_output, m)?)?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;

@@ -8,8 +8,9 @@ use sprung::IntegratorKind;
 use sprung_io::export::{self, AtomicFile, Diagnostics, FrameFormat};
 
 use crate::errors::{bad_value, failed, step_error};
+use crate::load::load_sim;
 use crate::sim::{Sim, SIGNAL_CHECK};
-use crate::world::{load_sim, World};
+use crate::world::World;
 
 /// What `run` gives back: the CSV text of `diagnostics.csv`, and the
 /// blow-up that stopped the run early, if one did (as a Python exception

@@ -1,5 +1,5 @@
-//! `sprung.World` and `sprung.Body`: a loaded scene, its state as numpy
-//! arrays (copies, never views), stepped with the GIL released.
+//! `sprung.World`: a loaded scene, its state as numpy arrays (copies,
+//! never views), stepped with the GIL released.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard, PoisonError};
@@ -9,74 +9,12 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sprung::{IntegratorKind, Vec3};
 use sprung_io::export::energy_columns;
-use sprung_io::{state, Disk, Override};
+use sprung_io::state;
 
-use crate::errors::{bad_value, failed, scene_error, step_error, typed, value};
-use crate::overrides::overrides;
+use crate::body::Body;
+use crate::errors::{bad_value, failed, step_error, typed, value};
+use crate::load::build_sim;
 use crate::sim::{Sim, SIGNAL_CHECK};
-
-/// Read the scene file at `path` through the command line's gate (a
-/// regular file, at most 16 MiB, UTF-8: see [`crate::input::read_scene`])
-/// and build it, with `overrides`.
-pub fn load_sim(py: Python<'_>, path: &Path, overrides: &[Override]) -> PyResult<Sim> {
-    let text = crate::input::read_scene_text(py, path)?;
-    build_sim(py, text, path, overrides)
-}
-
-/// Build the scene `text`, named `path` (its folder anchors mesh paths),
-/// with `overrides`; the Sim keeps the effective text. Text longer than a
-/// scene file may be, or nested too deep, is refused by the scene reader
-/// before it is parsed.
-pub fn build_sim(
-    py: Python<'_>,
-    text: String,
-    path: &Path,
-    overrides: &[Override],
-) -> PyResult<Sim> {
-    let built = py.detach(|| {
-        let scene = sprung_io::parse_scene_overridden(&text, path, overrides, &Disk)?;
-        let text = match overrides {
-            [] => text,
-            _ => sprung_io::apply_overrides(&text, path, overrides)?,
-        };
-        Ok((scene, text))
-    });
-    let (scene, text) = built.map_err(|e| scene_error(py, &e))?;
-    Ok(Sim::new(scene, text))
-}
-
-/// Load the scene file at `path` (TOML) into a World, read through the
-/// command line's gate (see [`load_sim`]).
-#[pyfunction]
-#[pyo3(signature = (path, set=None))]
-pub fn load(
-    py: Python<'_>,
-    path: PathBuf,
-    set: Option<Vec<(String, Bound<'_, PyAny>)>>,
-) -> PyResult<World> {
-    let overrides = overrides(py, set, &path)?;
-    Ok(World::new(load_sim(py, &path, &overrides)?))
-}
-
-/// Build a World from scene text; mesh paths are relative to `base_dir`
-/// (default: the current folder). Text longer than a scene file may be
-/// (16 MiB, or `SPRUNG_MAX_INPUT_BYTES`) is refused as a file is.
-#[pyfunction]
-#[pyo3(signature = (text, base_dir=None, set=None, name=None))]
-pub fn loads(
-    py: Python<'_>,
-    text: String,
-    base_dir: Option<PathBuf>,
-    set: Option<Vec<(String, Bound<'_, PyAny>)>>,
-    name: Option<String>,
-) -> PyResult<World> {
-    // Errors name the text `<string>` (or `name`) in `base_dir`.
-    let path = base_dir
-        .unwrap_or_default()
-        .join(name.as_deref().unwrap_or("<string>"));
-    let overrides = overrides(py, set, &path)?;
-    Ok(World::new(build_sim(py, text, &path, &overrides)?))
-}
 
 /// A simulated world: particles joined by springs, bodies, colliders.
 ///
@@ -114,7 +52,7 @@ impl World {
     }
 
     /// The columns of an array of vectors: 2 in a 2D scene, else 3.
-    fn columns(&self) -> usize {
+    pub(crate) fn columns(&self) -> usize {
         self.columns
     }
 
@@ -330,10 +268,7 @@ impl World {
     /// The body called `name` (a `KeyError` if there is none).
     fn body(slf: Bound<'_, Self>, name: &str) -> PyResult<Body> {
         let index = slf.try_borrow().map_err(busy)?.body_index(name)?;
-        Ok(Body {
-            world: slf.unbind(),
-            index,
-        })
+        Ok(Body::new(slf.unbind(), index))
     }
 
     /// The energies (J) by the names of `diagnostics.csv`'s columns:
@@ -497,106 +432,4 @@ fn state_error(py: Python<'_>, path: &Path, error: state::StateFileError) -> PyE
         error.to_string(),
         &[("path", value(py, path.display().to_string()))],
     )
-}
-
-/// One body of a World, read live: each property is the body's value at
-/// the World's current state. It keeps its World alive.
-#[pyclass(module = "sprung._native")]
-pub struct Body {
-    world: Py<World>,
-    index: usize,
-}
-
-impl Body {
-    fn with<R>(
-        &self,
-        py: Python<'_>,
-        f: impl FnOnce(&World, &Sim, &sprung::Body) -> R,
-    ) -> PyResult<R> {
-        let world = self.world.try_borrow(py).map_err(busy)?;
-        let sim = world.sim();
-        Ok(f(&world, &sim, &sim.scene.world.bodies[self.index]))
-    }
-}
-
-#[pymethods]
-impl Body {
-    /// The body's name.
-    #[getter]
-    fn name(&self, py: Python<'_>) -> PyResult<String> {
-        self.with(py, |_, _, body| body.name.clone())
-    }
-
-    /// Its particles' indices in the World's arrays: int64 `(k,)`.
-    #[getter]
-    fn indices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        let range = self.with(py, |_, _, body| body.particles.clone())?;
-        Ok(PyArray1::from_vec(py, range.map(|i| i as i64).collect()))
-    }
-
-    /// Enclosed volume (m³; area, m², in 2D), `None` for a body that is not closed.
-    #[getter]
-    fn volume(&self, py: Python<'_>) -> PyResult<Option<f64>> {
-        self.with(py, |_, sim, _| sim.scene.world.volume(self.index))
-    }
-
-    /// Gas pressure (Pa; N/m in 2D), `None` for a body without gas.
-    #[getter]
-    fn pressure(&self, py: Python<'_>) -> PyResult<Option<f64>> {
-        self.with(py, |_, sim, _| sim.scene.world.pressure(self.index))
-    }
-
-    /// Centre of mass (m): float64 `(3,)`, `(2,)` in 2D.
-    #[getter]
-    fn centroid<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let (c, columns) = self.with(py, |world, sim, _| {
-            let c = sim.scene.world.centroid(self.index).unwrap_or_default();
-            (c, world.columns())
-        })?;
-        Ok(PyArray1::from_vec(py, c.to_array()[..columns].to_vec()))
-    }
-
-    /// The gas's `nRT` (J) now, for a body with gas (else `None`).
-    /// Setting it holds `nRT` at that value from now on (the scene's ramp,
-    /// schedule and leak are dropped): a controller inflating and
-    /// deflating the body between steps.
-    #[getter]
-    fn nrt(&self, py: Python<'_>) -> PyResult<Option<f64>> {
-        self.with(py, |_, sim, body| {
-            let t = sim.scene.world.time();
-            body.gas.as_ref().map(|gas| gas.nrt_at(t))
-        })
-    }
-
-    #[setter]
-    fn set_nrt(&self, py: Python<'_>, nrt: f64) -> PyResult<()> {
-        if !(nrt.is_finite() && nrt >= 0.0) {
-            return Err(bad_value(format!(
-                "nrt = {nrt}: must be a finite amount of gas, 0 or more (J)"
-            )));
-        }
-        let mut world = self.world.try_borrow_mut(py).map_err(busy)?;
-        let body = &mut world.sim_mut().scene.world.bodies[self.index];
-        let Some(gas) = body.gas.as_mut() else {
-            return Err(bad_value(format!(
-                "body {:?} has no gas: only a gas body's nrt can be set",
-                body.name
-            )));
-        };
-        *gas = sprung::Gas {
-            volume_model: gas.volume_model,
-            ..sprung::Gas::new(nrt, 0.0)
-        };
-        Ok(())
-    }
-
-    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
-        self.with(py, |_, _, body| {
-            format!(
-                "<sprung.Body {:?}: {} particles>",
-                body.name,
-                body.particles.len()
-            )
-        })
-    }
 }

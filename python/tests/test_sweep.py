@@ -65,8 +65,29 @@ def test_local_sweep_without_dask_from_the_command_line(tmp_path, cli, scenes):
     check_grid(out, range(9), cli, scenes, tmp_path)
 
 
+def test_sweep_stays_a_function_when_its_module_is_imported():
+    # `sprung.sweep` is the function; its module (what `python -m
+    # sprung.sweep` runs) is a plain module, its class never swapped, and
+    # importing it by name does not rebind the package's attribute.
+    code = ("import sys, types, sprung\n"
+            "function = sprung.sweep\n"
+            "import sprung.sweep\n"
+            "module = sys.modules['sprung.sweep']\n"
+            "assert sprung.sweep is function and callable(function), sprung.sweep\n"
+            "assert type(module) is types.ModuleType and module.sweep is function\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 0, done.stderr
+    # Run as a program with warnings as errors: runpy warns when a plain
+    # module it runs was imported first; a package's __main__ is not.
+    done = subprocess.run([sys.executable, "-W", "error", "-m", "sprung.sweep", "--help"],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0 and done.stderr == "", done.stderr
+    assert done.stdout.startswith("usage: python -m sprung.sweep")
+
+
 def test_command_line_values_are_read_as_set_reads_them():
-    from sprung._sweep import parse_value
+    from sprung.sweep.__main__ import parse_value
     assert parse_value("1e-4") == 1e-4 and parse_value("100") == 100
     assert parse_value("true") is True and parse_value("rk4") == "rk4"
     assert parse_value('"rk4"') == "rk4" and parse_value("[0, 1]") == [0, 1]
@@ -113,7 +134,7 @@ def test_what_a_dead_attempt_left_half_written_is_cleared(tmp_path, scenes):
 
 
 def test_latin_hypercube_is_stratified_and_reproducible():
-    from sprung._sweep import latin_hypercube
+    from sprung.sweep._sampling import latin_hypercube
     points = latin_hypercube({"a": (0.0, 1.0), "b": (10.0, 20.0)}, 8, seed=3)
     assert points == latin_hypercube({"a": (0.0, 1.0), "b": (10.0, 20.0)}, 8, seed=3)
     assert points != latin_hypercube({"a": (0.0, 1.0), "b": (10.0, 20.0)}, 8, seed=4)
@@ -205,7 +226,7 @@ def test_a_worker_killed_mid_sweep_costs_only_time(tmp_path, scenes, cluster):
 
 
 def test_a_run_that_fails_unexpectedly_is_a_row(tmp_path, scenes, monkeypatch):
-    import sprung._sweep as engine
+    from sprung.sweep import _runs as engine
     real = engine.run_task
 
     def flaky(task):
