@@ -7,8 +7,11 @@ names `crate::B` or an item `lib.rs` re-exports from B.
 
     scripts/imports.py [--check] [SRC]   # SRC defaults to crates/sprung/src
 
-With --check it fails (exit 1) when any circle is left: scripts/test.sh
-runs it so, and the engine keeps its rooms in floors.
+With --check it fails (exit 1) when any circle is left, or when a room
+takes a name through the crate's root (`crate::World` rather than
+`crate::world::World`: lib.rs imports every room, so that import runs
+back up): scripts/test.sh runs it so, and the engine keeps its rooms in
+floors.
 
 Prints the rooms, the arrows, the circles (strongly connected sets of
 two or more rooms) and, for each arrow inside a circle, its two rooms and
@@ -69,10 +72,17 @@ def names(text):
                 yield w.group(0), m.start()
 
 arrows = defaultdict(dict)
+# Names taken through the crate's root rather than from their home room:
+# lib.rs imports every room, so such an import runs back up to the top.
+through_root = []
 for room in rooms:
     for path in files(room):
         text = shipped(open(path).read())
         for name, at in names(text):
+            if name in reexport:
+                line = text.count("\n", 0, at) + 1
+                through_root.append(f"{os.path.relpath(path, src)}:{line}: crate::{name} "
+                                    f"(import it from crate::{reexport[name]})")
             target = name if name in rooms else reexport.get(name)
             if target and target != room and target not in arrows[room]:
                 line = text.count("\n", 0, at) + 1
@@ -106,5 +116,10 @@ print(f"circles: {len(circles)}" + "".join(f"\n  {len(c)} rooms: {', '.join(c)}"
 print(f"arrows inside a circle: {len(back)}")
 for a, b, where in back:
     print(f"  {a} -> {b}  ({where})")
+print(f"names taken through lib.rs: {len(through_root)}")
+for where in through_root:
+    print(f"  {where}")
 if check and circles:
     sys.exit("the engine's rooms import each other in a circle: cut an arrow above")
+if check and through_root:
+    sys.exit("a room takes a name through lib.rs: import it from its home room (above)")

@@ -5,7 +5,7 @@
 //! user wrote) and the index, so a loader can add the file and line.
 
 use crate::surface::SurfaceProblem;
-use crate::Real;
+use crate::units::Real;
 use thiserror::Error;
 
 /// Why a body (or a world setting) was refused before the run.

@@ -8,7 +8,7 @@
 //! `leak_start` on, so a balloon can slowly deflate and sag.
 
 use crate::error::BuildError;
-use crate::Real;
+use crate::units::Real;
 
 /// How the enclosed volume is measured for the pressure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

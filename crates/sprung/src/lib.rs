@@ -58,13 +58,9 @@ pub mod stage;
 pub mod state;
 pub mod surface;
 pub mod tearing;
+pub mod units;
 mod unknown;
 pub mod world;
-
-/// The one real number type of the engine (SI units throughout).
-pub type Real = f64;
-/// A 3D vector of [`Real`]; 2D scenes use z = 0.
-pub type Vec3 = glam::DVec3;
 
 pub use body::{Body, BodyContact, BodyData, MuscleData, MuscleDrive, RodData, SpringData};
 pub use colliders::{Collider, ContactResponse, Path, Shape};
@@ -79,5 +75,6 @@ pub use springs::Springs;
 pub use stage::{Profile, Stage};
 pub use state::{StateError, WorldState};
 pub use tearing::{JoinData, JoinEnd, StrainLimits};
+pub use units::{Real, Vec3};
 pub use unknown::UnknownName;
 pub use world::{Settings, Substeps, World};

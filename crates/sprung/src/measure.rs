@@ -4,7 +4,7 @@
 
 use crate::body::Body;
 use crate::particles::Particles;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The potential-energy terms every world reports, in this order, whether
 /// or not it has the forces that fill them: the springs', gravity's, the

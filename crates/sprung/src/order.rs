@@ -286,7 +286,7 @@ mod tests {
     #[test]
     fn only_a_body_numbered_with_no_locality_is_renumbered() {
         use crate::build::{self, ClothSprings, SurfaceSprings};
-        use crate::{IntegratorKind, World};
+        use crate::{integrate::IntegratorKind, world::World};
         // A 100 × 100 cloth (10 000 particles, past the two chunks a world
         // reads in any order): numbered at random, its springs are read in
         // a numbering of their own; numbered along its rows (the runs the

@@ -1,7 +1,7 @@
 //! Particles as a structure of arrays: one `Vec` per quantity, indexed by
 //! particle number, so hot loops run over slices.
 
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The point masses of a world, stored as parallel arrays.
 ///

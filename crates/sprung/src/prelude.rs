@@ -21,7 +21,14 @@ pub use crate::forces::{
     AirDrag, Force, ForceContext, JacobianScale, Linearization, MouseSpring, StiffnessBounds, Wind,
 };
 pub use crate::{
-    BodyData, BuildError, Collider, ContactResponse, ContactSettings, Energies, Gas,
-    IntegratorKind, Path, Profile, Real, Settings, Shape, SpringData, Stage, StepError, Substeps,
-    Vec3, World,
+    body::{BodyData, SpringData},
+    colliders::{Collider, ContactResponse, Path, Shape},
+    contact::ContactSettings,
+    error::{BuildError, StepError},
+    gas::Gas,
+    integrate::IntegratorKind,
+    measure::Energies,
+    stage::{Profile, Stage},
+    units::{Real, Vec3},
+    world::{Settings, Substeps, World},
 };

@@ -3,7 +3,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::Real;
+use crate::units::Real;
 
 /// The next number [`Springs::topology`] hands out.
 static NEXT_TOPOLOGY: AtomicU64 = AtomicU64::new(1);

@@ -16,7 +16,7 @@
 
 use thiserror::Error;
 
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Named arrays of numbers: the state of a world, or one part of it (an
 /// integrator's history). Names are unique; the order is the order saved.

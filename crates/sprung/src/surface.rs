@@ -21,7 +21,7 @@
 use std::collections::{HashMap, HashSet};
 
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Area-weighted normals at the vertices of the triangles `faces` over
 /// `position` (m): each vertex gets the sum of `(b − a) × (c − a)` of the

@@ -9,7 +9,7 @@ use crate::error::BuildError;
 use crate::gas::Gas;
 use crate::surface;
 use crate::tearing::StrainLimits;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// One spring of a [`BodyData`], with particle indices local to the body.
 #[derive(Debug, Clone, PartialEq)]

@@ -7,7 +7,7 @@ use std::ops::Range;
 
 use crate::gas::{Gas, VolumeModel};
 use crate::surface;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 mod data;
 mod validate;

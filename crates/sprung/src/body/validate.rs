@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use super::{BodyData, MuscleDrive};
 use crate::error::BuildError;
 use crate::surface;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Rods agree to a billionth of their length (the tolerance the constrain
 /// stage converges to by default).

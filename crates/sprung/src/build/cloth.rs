@@ -4,7 +4,7 @@
 use super::{check_count, check_length, check_springs, check_total};
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Which families of springs a cloth gets.
 ///

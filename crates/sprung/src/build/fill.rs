@@ -4,7 +4,7 @@
 //! surface"). It holds a mesh's shape without gas, like jelly.
 
 use crate::error::BuildError;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Most tests of a lattice point against a face or a surface vertex a fill
 /// may take (a few seconds).

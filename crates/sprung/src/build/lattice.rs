@@ -7,7 +7,7 @@ use super::MAX_SPRINGS;
 use super::{check_count, check_length, check_springs, check_total};
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A lattice of `nx × ny × nz` particles (each at least 2) `spacing` (m)
 /// apart, its corner at the origin. Particle `(x, y, z)` has index

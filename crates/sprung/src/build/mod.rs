@@ -23,7 +23,7 @@ pub use sphere::{icosphere, MAX_SUBDIVISIONS};
 pub use surface::{refine, surface, Internal, SurfaceSprings};
 
 use crate::error::BuildError;
-use crate::Real;
+use crate::units::Real;
 
 /// Most particles a builder makes (ten million: about 1 GB of state).
 pub const MAX_PARTICLES: usize = 10_000_000;

@@ -4,7 +4,7 @@
 use super::{check_count, check_length, check_total};
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A ring of `particles` particles (at least 3) on a circle of `radius` (m)
 /// centred on the origin in the xy-plane, counter-clockwise from +x; a

@@ -4,7 +4,7 @@
 use super::{check_count, check_length, check_total};
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A rope of `particles` particles (at least 2), evenly spaced over
 /// `length` (m) from the origin down along -y, with a spring between each

@@ -5,7 +5,7 @@
 use super::{check_length, refine, surface, SurfaceSprings};
 use crate::body::BodyData;
 use crate::error::BuildError;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Most subdivisions accepted (7 gives 163 842 vertices).
 pub const MAX_SUBDIVISIONS: usize = 7;

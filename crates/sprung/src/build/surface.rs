@@ -8,7 +8,7 @@ use super::fill::lattice_fill;
 use crate::body::{BodyData, SpringData};
 use crate::error::BuildError;
 use crate::surface::{bending_pairs, unique_edges};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Which springs a surface body gets besides one per edge.
 ///

@@ -32,7 +32,7 @@
 use std::ops::Range;
 
 use super::{Collider, ContactResponse};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A particle's contact with a projection collider over one implicit step.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -38,7 +38,7 @@ pub use response::FRICTION_REGULARISATION;
 pub(crate) use response::{penalty_force, project};
 
 use crate::error::BuildError;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The geometry of a collider.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -3,7 +3,7 @@
 //! velocity is piecewise constant).
 
 use crate::error::BuildError;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A prescribed displacement of a collider over time: keyframes
 /// `(time (s), displacement (m))` with strictly increasing times, joined by

@@ -4,7 +4,7 @@
 
 use super::constraint::coulomb;
 use super::{Collider, ContactResponse};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Projection stage at `time` (s), the end of the step: every movable
 /// particle found inside `collider` (where it is at `time`) is put back on

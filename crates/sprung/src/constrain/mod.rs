@@ -23,7 +23,7 @@ pub use rigid::{RigidBodies, RigidBody};
 pub use rods::{RodReport, Rods};
 
 use crate::error::BuildError;
-use crate::Real;
+use crate::units::Real;
 
 /// Most passes over the rods a step may take: a hundred times the default,
 /// enough for rods that can hold; it bounds the time of a step whose rods

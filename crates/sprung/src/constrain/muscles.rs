@@ -4,7 +4,7 @@
 
 use crate::body::MuscleDrive;
 use crate::springs::Springs;
-use crate::Real;
+use crate::units::Real;
 
 /// One muscle: a spring of the world and its drive.
 #[derive(Debug, Clone, PartialEq)]

@@ -41,7 +41,7 @@ use std::ops::Range;
 use glam::{DMat3, DQuat};
 
 use crate::colliders::{Collider, ContactResponse};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// One rigid body: its particles, rest shape and last rotation.
 #[derive(Debug, Clone, PartialEq)]

@@ -22,7 +22,7 @@
 //! works unchanged after every integrator, RK4's stages and the implicit
 //! solves included.
 
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The world's rods, structure of arrays, world particle indices.
 #[derive(Debug, Clone, Default, PartialEq)]

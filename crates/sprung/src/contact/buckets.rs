@@ -9,7 +9,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use crate::parallel;
-use crate::Real;
+use crate::units::Real;
 
 /// How many buckets of clearance each list of pairs is kept in.
 pub(crate) const CLEARANCE_BUCKETS: usize = 8;

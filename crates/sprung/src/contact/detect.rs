@@ -17,7 +17,7 @@ use super::pairs::{beyond, Spare};
 use super::{ContactSettings, Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
 use crate::body::{Body, BodyContact};
 use crate::springs::Springs;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 use gather::Gathered;
 use search::{Budget, Search};
 use std::sync::atomic::AtomicUsize;

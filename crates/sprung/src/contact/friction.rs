@@ -53,7 +53,7 @@ use super::pairs::Touch;
 use super::rigid_friction;
 use super::ImpulseContext;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A count of touches per bit length of their spans (highest particle less
 /// lowest): entry `b` counts those spanning `2^(b-1)` to `2^b - 1`

@@ -9,7 +9,7 @@
 //! unconstrained solution to the unit square, as set out in Ericson,
 //! *Real-Time Collision Detection*, §5.1.5 and §5.1.9.
 
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Barycentric weights `[u, v, w]` (`u + v + w = 1`, each in `[0, 1]`) of
 /// the point of triangle `(a, b, c)` closest to `p`: `u a + v b + w c`.

@@ -20,7 +20,7 @@
 //! box (its low corner above its high one on some axis, or NaN) is
 //! entered in no cell.
 
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Most cells one box may cover along an axis: a larger box is entered in,
 /// and queries, only the first this many, so the elements beyond them are

@@ -4,7 +4,7 @@
 
 use super::geometry::{closest_on_segment, closest_on_triangle};
 use crate::body::Body;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The winding number of the closed, outward-oriented triangles `faces`
 /// (indices into `position`) around `p`: 1 inside, 0 outside. It is the sum

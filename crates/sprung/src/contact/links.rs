@@ -22,7 +22,7 @@ use std::collections::{BinaryHeap, HashSet};
 
 use crate::body::{Body, BodyContact};
 use crate::springs::Springs;
-use crate::Real;
+use crate::units::Real;
 
 /// Most particles near one particle: a thickness so large that the
 /// radius covers more stops there (the nearest ones are left out), so the
@@ -275,7 +275,7 @@ impl Nearest {
 mod tests {
     use super::*;
     use crate::build::{self, ClothSprings};
-    use crate::{IntegratorKind, Vec3, World};
+    use crate::{integrate::IntegratorKind, units::Vec3, world::World};
 
     /// A flat cloth of `n × n` particles over 1 m, colliding with itself.
     fn cloth(n: usize) -> World {

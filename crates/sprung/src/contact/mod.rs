@@ -104,7 +104,7 @@ pub(crate) use pairs::{
 pub(crate) use rigid_friction::RigidParts;
 
 use crate::error::BuildError;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The speed (m/s) a particle arriving at a contact is stopped from within
 /// the thickness by the default stiffness.
@@ -304,7 +304,7 @@ pub struct ImpulseContext<'a> {
 #[cfg(test)]
 mod tests {
     use super::effective_mass;
-    use crate::Real;
+    use crate::units::Real;
 
     #[test]
     fn the_effective_mass_is_the_reduced_mass_at_most_the_heaviest_moving_one() {

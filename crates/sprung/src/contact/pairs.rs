@@ -12,7 +12,7 @@ pub(crate) use measure::{Touches, PREFETCH_TOUCHES};
 pub(crate) use touch::{Shape, Touch};
 
 use super::buckets::Buckets;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A particle against a surface element of `N` particles: a triangle of a
 /// surface ([`PointTriangle`], 3D) or a segment of a 2D loop

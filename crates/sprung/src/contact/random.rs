@@ -1,6 +1,6 @@
 //! Numbers for the contact tests' motions, the same on every run.
 
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// xorshift64*: numbers uniform in [-1, 1), the same on every run.
 pub(crate) struct Random(pub u64);

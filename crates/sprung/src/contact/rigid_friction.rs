@@ -40,7 +40,7 @@
 
 use super::pairs::Touch;
 use crate::constrain::{Motion, RigidBody};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Passes of sequential impulses over the touches with rigid bodies.
 pub const PASSES: usize = 16;

@@ -10,7 +10,7 @@ use super::pairs::{beyond, Spare};
 use super::{Contacts, EdgeEdge, PointPoint, PointSegment, PointTriangle};
 use crate::body::Body;
 use crate::state::{StateError, WorldState};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 impl Contacts {
     /// Add the last search and its pairs to `state`.

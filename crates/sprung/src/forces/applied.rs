@@ -2,7 +2,7 @@
 //! particle, held for the coming steps.
 
 use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A force (N) on each particle given from outside the simulation (a
 /// controller, a user's script), constant over the steps it is set for:

@@ -8,7 +8,7 @@ use crate::contact::friction::{self, Pushed, Spans};
 use crate::contact::pairs::{Touch, Touches, PREFETCH_TOUCHES};
 use crate::contact::{self as contact, rigid_friction};
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 use rayon::prelude::*;
 
 /// The penalty forces of the candidate contact pairs of the step (reads

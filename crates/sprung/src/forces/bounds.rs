@@ -1,7 +1,7 @@
 //! The bounds the explicit methods' stable time step is taken from, which
 //! every force of the list adds its share to ([`super::Force::add_stiffness`]).
 
-use crate::Real;
+use crate::units::Real;
 
 /// Per particle, bounds on the rows of the mass-scaled Jacobians of the
 /// forces, from which [`StiffnessBounds::stable_time_step`] takes the

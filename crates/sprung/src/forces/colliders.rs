@@ -10,7 +10,7 @@
 
 use super::{Force, ForceContext, JacobianScale, Linearization, NormalPush, StiffnessBounds};
 use crate::colliders::{self, Collider, ContactResponse};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The penalty forces of the world's colliders (reads
 /// `ForceContext::colliders`).

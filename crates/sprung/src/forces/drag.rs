@@ -3,7 +3,7 @@
 use super::jacobian::{add_isotropic_diagonal, add_isotropic_product};
 use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Linear drag on every particle against its velocity.
 #[derive(Debug, Clone, Copy, PartialEq)]

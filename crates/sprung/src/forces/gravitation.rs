@@ -14,7 +14,7 @@
 use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::error::BuildError;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The gravitational constant `G` (N·m²/kg², CODATA 2018).
 pub const GRAVITATIONAL_CONSTANT: Real = 6.674e-11;
@@ -66,7 +66,7 @@ pub const MAX_GRAVITATING: usize = 20_000;
 
 /// How many particles of `bodies` take part in gravitation (their
 /// [`crate::Body::gravitating`] flag).
-pub fn gravitating_particles(bodies: &[crate::Body]) -> usize {
+pub fn gravitating_particles(bodies: &[crate::body::Body]) -> usize {
     bodies
         .iter()
         .filter(|b| b.gravitating)

@@ -2,7 +2,7 @@
 
 use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Uniform gravitational acceleration `g` (m/s²) on every particle.
 ///

@@ -4,7 +4,7 @@
 
 use super::JacobianScale;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A penalty contact pushing along a normal `n` with stiffness `k` (N/m)
 /// and damping `c` (N·s/m) on the relative motion `Σ w_i x_i` of its

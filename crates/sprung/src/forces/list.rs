@@ -6,7 +6,7 @@ use super::{
 use crate::measure::{Energies, STANDARD_TERMS};
 use crate::parallel;
 use crate::springs::Springs;
-use crate::Vec3;
+use crate::units::Vec3;
 
 /// Every force acting in a world, in the order they are added.
 ///

@@ -77,7 +77,7 @@ use crate::body::Body;
 use crate::colliders::Collider;
 use crate::contact::Contacts;
 use crate::springs::Springs;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The state a force is evaluated at, and the world it belongs to.
 #[derive(Debug, Clone, Copy)]

@@ -3,7 +3,7 @@
 
 use super::jacobian::{add_isotropic_diagonal, add_isotropic_product};
 use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A spring of zero rest length from particle `particle` to `target`:
 /// `f = k (target - x) - c v`.

@@ -26,7 +26,7 @@ use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::body::Body;
 use crate::gas::VolumeModel;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The pressure of the gas in every body that has one, with its volume
 /// stiffness cached at the last linearisation.

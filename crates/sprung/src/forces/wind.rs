@@ -22,7 +22,7 @@ use super::wind_field::WindField;
 use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::error::BuildError;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Air density at sea level and 20 °C (kg/m³), the default of the area model.
 pub const AIR_DENSITY: Real = 1.2;

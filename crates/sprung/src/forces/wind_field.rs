@@ -5,7 +5,7 @@
 //! seeded generator, so a run repeats exactly for the same seed.
 
 use crate::error::BuildError;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Gusts: the mean wind's strength varies as `1 + amplitude · g(t)`, with
 /// `g` a sum of three sinusoids of periods near `period`, scaled so that

@@ -5,7 +5,7 @@
 use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::error::SolverError;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Explicit Euler with its acceleration buffer.
 #[derive(Debug, Default)]

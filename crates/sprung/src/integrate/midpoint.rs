@@ -4,7 +4,7 @@
 use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::error::SolverError;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The midpoint method with its half-step buffers.
 #[derive(Debug, Default)]

@@ -35,7 +35,7 @@ use crate::forces::{JacobianScale, Jacobians, Linearization};
 use crate::parallel;
 use crate::springs::Springs;
 use crate::state::{StateError, WorldState};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A state of the system: time, positions and velocities.
 #[derive(Debug, Clone, Copy)]
@@ -352,11 +352,12 @@ impl std::fmt::Display for IntegratorKind {
 }
 
 impl std::str::FromStr for IntegratorKind {
-    type Err = crate::UnknownName;
+    type Err = crate::unknown::UnknownName;
 
     fn from_str(name: &str) -> Result<Self, Self::Err> {
-        Self::from_name(name)
-            .ok_or_else(|| crate::UnknownName::new("integrator", name, Self::ALL.map(|k| k.name())))
+        Self::from_name(name).ok_or_else(|| {
+            crate::unknown::UnknownName::new("integrator", name, Self::ALL.map(|k| k.name()))
+        })
     }
 }
 

@@ -5,7 +5,7 @@
 use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepReport};
 use crate::error::SolverError;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// RK4 with its stage buffers: the trial state, the stage force and
 /// the running weighted sums of the stage derivatives.

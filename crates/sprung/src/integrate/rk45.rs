@@ -18,7 +18,7 @@ use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepRep
 use crate::error::SolverError;
 use crate::parallel;
 use crate::state::{StateError, WorldState};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Dormand–Prince coefficients `a[i][j]` (stage `i` from stages `j < i`).
 const A: [[Real; 6]; 7] = [

@@ -21,7 +21,7 @@ use super::{fit, Derivative, Integrator, IntegratorKind, SolverSettings, StepRep
 use crate::error::SolverError;
 use crate::parallel;
 use crate::state::{StateError, WorldState};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Position Verlet with its previous positions and the state it last wrote.
 #[derive(Debug, Default)]

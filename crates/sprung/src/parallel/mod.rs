@@ -26,7 +26,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use crate::Real;
+use crate::units::Real;
 
 pub use schedule::particle_span;
 pub(crate) use schedule::{scatter_in_order, Block, Elements, Schedule, ScheduleCache, Writer};

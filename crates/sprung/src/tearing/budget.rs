@@ -24,7 +24,7 @@
 use std::ops::Range;
 
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Coordinates a pass compares at a time: eight particles, so the lanes
 /// of x, y and z repeat.

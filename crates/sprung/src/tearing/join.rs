@@ -8,7 +8,7 @@
 //! ([`crate::tearing`]). A rod join is one more rod of [`crate::Rods`].
 
 use crate::error::BuildError;
-use crate::Real;
+use crate::units::Real;
 
 /// One end of a join: particle `particle` (its index within the body) of
 /// the body named `body`.

@@ -38,7 +38,7 @@ use std::ops::Range;
 use crate::error::BuildError;
 use crate::parallel;
 use crate::springs::Springs;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 use budget::MoveBudget;
 pub use join::{Join, JoinData, JoinEnd, JoinLink};
 

@@ -8,7 +8,7 @@ use crate::error::BuildError;
 use crate::order;
 use crate::springs::{self};
 use crate::surface;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 use super::World;
 

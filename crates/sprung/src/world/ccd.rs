@@ -6,7 +6,7 @@ use crate::contact::ccd::{
     kept_pairs_most_bytes, sweep_colliders, CcdReport, Motion, Runaway, Stopped,
 };
 use crate::error::{BlowUpReason, StepError};
-use crate::Real;
+use crate::units::Real;
 
 use super::World;
 

@@ -8,7 +8,7 @@ use crate::forces::{ForceContext, ForceList, JacobianScale, Jacobians, Lineariza
 use crate::integrate::{Derivative, Integrator, State};
 use crate::particles::Particles;
 use crate::springs::Springs;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 use super::World;
 use crate::stage::{Stage, Timer};

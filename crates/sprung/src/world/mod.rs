@@ -23,7 +23,7 @@ use crate::springs::Springs;
 use crate::stage::{Profile, Timer};
 use crate::tearing::Join;
 use crate::tearing::SpringLimits;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 mod bodies;
 mod ccd;

@@ -5,7 +5,7 @@ use crate::contact::{Contacts, TooManyPairs};
 use crate::error::StepError;
 use crate::forces::{self, ForceContext, StiffnessBounds};
 use crate::measure::{self, Energies};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 use super::dynamics::Frame;
 use super::step::detect_into;

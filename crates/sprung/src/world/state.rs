@@ -1,7 +1,7 @@
 //! Save and restore what changes from step to step (checkpoints).
 
 use crate::state::{StateError, WorldState};
-use crate::Real;
+use crate::units::Real;
 
 use super::World;
 

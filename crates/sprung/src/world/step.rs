@@ -11,7 +11,7 @@ use crate::integrate::{IntegratorKind, StepReport};
 use crate::parallel;
 use crate::particles::Particles;
 use crate::springs::Springs;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 use super::bodies::magnitude;
 use super::World;

@@ -9,7 +9,7 @@ use crate::state::{StateError, WorldState};
 use crate::surface;
 use crate::tearing::StrainLimits;
 use crate::tearing::{Join, JoinData, JoinEnd, JoinLink};
-use crate::Real;
+use crate::units::Real;
 
 use super::World;
 

@@ -9,7 +9,7 @@
 
 use crate::body::{self, Body};
 use crate::colliders::{Collider, Shape};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Stop every particle of `bodies` but the rigid ones whose path over the step from `start` to
 /// `position` (m), the step ending at `time` (s) after `dt` (s), passes
@@ -87,7 +87,7 @@ fn entry(from: Vec3, to: Vec3, radius: Real) -> Option<Real> {
 #[cfg(test)]
 mod tests {
     use super::entry;
-    use crate::Vec3;
+    use crate::units::Vec3;
 
     #[test]
     fn a_path_through_a_sphere_enters_where_it_meets_it() {

@@ -7,7 +7,7 @@ use std::ops::Range;
 
 use crate::body::Body;
 use crate::contact::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// What an element is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

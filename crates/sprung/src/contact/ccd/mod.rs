@@ -39,7 +39,7 @@ pub(crate) use colliders::sweep_colliders;
 
 use crate::body::Body;
 use crate::constrain::RigidBody;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 use broad::Sweep;
 use elements::{Element, Elements, Kind};
 use narrow::{Hit, Moving};

@@ -17,7 +17,7 @@
 //! plane it lies on.
 
 use crate::contact::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A collision found: the weights of its closest points (`+` on the first
 /// element, `−` on the second, summing to zero) and the unit normal the

@@ -6,7 +6,7 @@ use std::cell::Cell;
 
 use super::elements::{distance, Elements, Kind};
 use crate::contact::grid::Grid;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Most cells one element's box spans along an axis in the grid of a
 /// search (the grid's own cap is 16).

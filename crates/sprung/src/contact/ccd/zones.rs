@@ -13,7 +13,7 @@
 //! Merging zones as long as collisions remain between them ends, at the
 //! latest, with every colliding particle in one zone.
 
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 use glam::DMat3;
 
 /// Particles grouped into zones by union–find.

@@ -5,7 +5,7 @@
 use super::Scratch;
 use crate::body::Body;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Marks a particle of no colliding body.
 const NONE: u32 = u32::MAX;

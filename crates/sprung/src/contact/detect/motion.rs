@@ -7,7 +7,7 @@ use super::Scratch;
 use crate::body::Body;
 use crate::contact::ContactSettings;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 use rayon::prelude::*;
 use std::ops::Range;
 

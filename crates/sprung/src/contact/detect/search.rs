@@ -11,7 +11,7 @@ use crate::contact::links::Links;
 use crate::contact::pairs::{beyond, Shape};
 use crate::contact::PointElement;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 

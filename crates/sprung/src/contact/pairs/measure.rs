@@ -8,7 +8,7 @@ use super::touch::{apart, Shape, Touch};
 use super::{ContactPairs, Kind, PointElement};
 use crate::contact::geometry::closest_between_segments;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 impl ContactPairs {
     /// Call `touch` with every pair closer than `thickness` (m) at

@@ -4,7 +4,7 @@
 
 use super::{beyond, EdgeEdge, PointElement, PointSegment, PointTriangle};
 use crate::contact::geometry::{closest_between_segments, closest_on_segment, closest_on_triangle};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The geometry of a particle–element pair, which differs by the shape of
 /// the element: a triangle (3D) or a segment of a 2D loop.

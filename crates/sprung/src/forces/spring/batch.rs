@@ -23,7 +23,7 @@ use std::ops::Range;
 
 use crate::parallel::{Block, Elements};
 use crate::springs::{Springs, MIN_RUN};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Springs per batch: their data (12 arrays of `BATCH` reals, 6 KiB) stays
 /// in the first-level cache.

@@ -30,7 +30,7 @@ use super::{Force, ForceContext, JacobianScale, Linearization, StiffnessBounds};
 use crate::body::Body;
 use crate::parallel::{self, Schedule};
 use crate::springs::Springs;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The force of every spring in the world (reads `ForceContext::springs`),
 /// with its Jacobians cached at the last linearisation.

@@ -8,7 +8,7 @@
 
 use crate::colliders::ContactConstraint;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// A symmetric positive definite matrix `A` and a preconditioner `P ≈ A`,
 /// both over particle vectors.

@@ -57,7 +57,7 @@ use crate::forces::{JacobianScale, Jacobians};
 use crate::integrate::{fit, Derivative, Integrator, IntegratorKind, State, StepReport};
 use crate::parallel;
 use crate::state::{StateError, WorldState};
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The name of the auto preconditioner's choice in a saved state.
 const FACTORED: &str = "implicit_euler.factored";

@@ -25,7 +25,7 @@ use crate::error::SolverError;
 use crate::integrate::Derivative;
 use crate::parallel::Schedule;
 use crate::springs::Springs;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Marks a pinned particle in [`Factor::unknown`].
 const PINNED: u32 = u32::MAX;

@@ -26,7 +26,7 @@ use crate::colliders::ContactConstraint;
 use crate::error::BuildError;
 use crate::integrate::StepReport;
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The preconditioner of implicit Euler's conjugate gradients.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

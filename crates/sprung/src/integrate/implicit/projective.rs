@@ -48,7 +48,7 @@ use crate::error::SolverError;
 use crate::forces::{JacobianScale, Jacobians};
 use crate::integrate::{fit, Derivative, Integrator, IntegratorKind, State, StepReport};
 use crate::parallel;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The projective solver with its factored matrix and buffers.
 #[derive(Debug, Default)]

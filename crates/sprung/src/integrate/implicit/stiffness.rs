@@ -47,7 +47,7 @@ use crate::error::SolverError;
 use crate::forces::{JacobianScale, SpringJacobian};
 use crate::integrate::Derivative;
 use crate::springs::Springs;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Marks a pinned particle in [`Pattern::unknown`], and a block with a
 /// pinned end in [`Numeric::between`].

@@ -25,7 +25,7 @@ use std::ops::Range;
 use faer::sparse::linalg::cholesky::simplicial::SymbolicSimplicialCholesky;
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// Groups of subtrees solved side by side (fixed, not the threads', so that
 /// the arithmetic does not depend on them).

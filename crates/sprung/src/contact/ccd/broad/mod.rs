@@ -33,7 +33,7 @@ use std::collections::BTreeMap;
 use super::elements::{Elements, Kind};
 use super::search::Anchored;
 use crate::contact::grid::Grid;
-use crate::{Real, Vec3};
+use crate::units::{Real, Vec3};
 
 /// The least margin `h` of a body, in contact thicknesses, and the most:
 /// a larger one keeps pairs longer but finds more of them (a cloth folded

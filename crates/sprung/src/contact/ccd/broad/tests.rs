@@ -5,7 +5,7 @@ use super::super::test;
 use super::*;
 use crate::build::{self, ClothSprings};
 use crate::contact::random::Random;
-use crate::{IntegratorKind, World};
+use crate::{integrate::IntegratorKind, world::World};
 
 /// Two cloths 10 cm square, one colliding with itself, 6 mm apart, and
 /// a rope of loose particles between them, 3 mm from each.
