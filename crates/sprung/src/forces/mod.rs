@@ -76,6 +76,7 @@ pub use wind_field::{Gusts, Turbulence, TurbulentMode, WindField};
 use crate::body::Body;
 use crate::colliders::Collider;
 use crate::contact::Contacts;
+use crate::model::{Model, State};
 use crate::springs::Springs;
 use crate::units::{Real, Vec3};
 
@@ -100,6 +101,23 @@ pub struct ForceContext<'a> {
     pub colliders: &'a [Collider],
     /// Contact between bodies: settings and the step's candidate pairs.
     pub contacts: &'a Contacts,
+}
+
+impl<'a> ForceContext<'a> {
+    /// The context of `model`'s forces at `state`.
+    pub fn new(model: &Model<'a>, state: State<'a>) -> Self {
+        ForceContext {
+            time: state.time,
+            position: state.position,
+            velocity: state.velocity,
+            mass: model.mass,
+            inverse_mass: model.inverse_mass,
+            springs: model.springs,
+            bodies: model.bodies,
+            colliders: model.colliders,
+            contacts: model.contacts,
+        }
+    }
 }
 
 /// The weights of a Jacobian product: `position ∂f/∂x·p + velocity ∂f/∂v·p`.

@@ -13,6 +13,7 @@
 //! [`Integrator`], a variant of [`IntegratorKind`] with its scene name, and a
 //! line in [`IntegratorKind::create`].
 
+mod dynamics;
 mod euler;
 mod implicit;
 mod midpoint;
@@ -21,6 +22,7 @@ mod rk45;
 mod symplectic_euler;
 mod verlet;
 
+pub use dynamics::Dynamics;
 pub use euler::ExplicitEuler;
 pub use implicit::{ImplicitEuler, Preconditioner, Projective, SolverSettings};
 pub use midpoint::Midpoint;
@@ -37,16 +39,7 @@ use crate::springs::Springs;
 use crate::state::{StateError, WorldState};
 use crate::units::{Real, Vec3};
 
-/// A state of the system: time, positions and velocities.
-#[derive(Debug, Clone, Copy)]
-pub struct State<'a> {
-    /// Simulated time (s).
-    pub time: Real,
-    /// Positions (m).
-    pub position: &'a [Vec3],
-    /// Velocities (m/s).
-    pub velocity: &'a [Vec3],
-}
+pub use crate::model::State;
 
 /// The system an integrator advances: its masses, and its forces and their
 /// Jacobians at trial states.

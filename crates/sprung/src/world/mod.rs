@@ -17,6 +17,7 @@ use crate::forces::BodyContacts;
 use crate::forces::ColliderContacts;
 use crate::forces::{AirDrag, ForceList, GasPressure, Gravity, SpringForce, StiffnessBounds};
 use crate::integrate::{Integrator, IntegratorKind, SolverSettings, StepReport};
+use crate::model::Model;
 use crate::parallel;
 use crate::particles::Particles;
 use crate::springs::Springs;
@@ -27,13 +28,14 @@ use crate::units::{Real, Vec3};
 
 mod bodies;
 mod ccd;
-mod dynamics;
 mod observe;
 mod state;
 mod step;
 mod tearing;
 
-pub use dynamics::Dynamics;
+/// The derivative function of the world's model and forces: it lives with
+/// the integrators (`sprung::integrate::Dynamics`), named here as before.
+pub use crate::integrate::Dynamics;
 pub use observe::PLASTIC;
 
 /// The approach speed (m/s) below which a rigid body's contact with a
@@ -488,5 +490,51 @@ impl World {
         }
         order.extend((0..self.springs.len()).filter(|&s| !listed[s]));
         order
+    }
+}
+
+impl World {
+    /// The world's model data as a step reads it (docs: [`Model`]): the
+    /// masses, springs, bodies, colliders and the contact pairs now.
+    pub fn model(&self) -> Model<'_> {
+        self.model_with(&self.contacts)
+    }
+
+    /// [`World::model`] with `contacts` for the contact state.
+    pub(super) fn model_with<'a>(&'a self, contacts: &'a Contacts) -> Model<'a> {
+        Model {
+            mass: &self.particles.mass,
+            inverse_mass: &self.particles.inverse_mass,
+            springs: &self.springs,
+            bodies: &self.bodies,
+            colliders: &self.colliders,
+            contacts,
+        }
+    }
+
+    /// Split the world into its derivative function (the model and the
+    /// forces, timed by the world's stage timer) and what the integrator
+    /// advances, the positions and velocities (disjoint borrows of its
+    /// fields): the integrate stage's `(model, state, forces, dt) → state`.
+    pub(super) fn split(
+        &mut self,
+    ) -> (Dynamics<'_>, &mut [Vec3], &mut [Vec3], &mut dyn Integrator) {
+        let Particles {
+            position,
+            velocity,
+            mass,
+            inverse_mass,
+            ..
+        } = &mut self.particles;
+        let model = Model {
+            mass,
+            inverse_mass,
+            springs: &self.springs,
+            bodies: &self.bodies,
+            colliders: &self.colliders,
+            contacts: &self.contacts,
+        };
+        let dynamics = Dynamics::new(model, &mut self.forces).timed_by(&self.timer);
+        (dynamics, position, velocity, self.integrator.as_mut())
     }
 }

@@ -7,10 +7,10 @@ use crate::forces::{self, ForceContext, StiffnessBounds};
 use crate::measure::{self, Energies};
 use crate::units::{Real, Vec3};
 
-use super::dynamics::Frame;
 use super::step::detect_into;
 use super::World;
 use crate::integrate::Derivative;
+use crate::model::State;
 
 impl World {
     /// Evaluate every force at the current state into `particles.force` (N).
@@ -167,19 +167,12 @@ impl World {
 
     /// [`World::force_context`] with `contacts` for the contact state.
     pub(super) fn context_with<'a>(&'a self, contacts: &'a Contacts) -> ForceContext<'a> {
-        let frame = Frame {
-            colliders: &self.colliders,
-            contacts,
-            springs: &self.springs,
-            bodies: &self.bodies,
-            mass: &self.particles.mass,
-            inverse_mass: &self.particles.inverse_mass,
+        let state = State {
+            time: self.time,
+            position: &self.particles.position,
+            velocity: &self.particles.velocity,
         };
-        frame.context(
-            self.time,
-            &self.particles.position,
-            &self.particles.velocity,
-        )
+        ForceContext::new(&self.model_with(contacts), state)
     }
 
     /// Exact enclosed volume (m³), or area for a 2D body (m²), of body
