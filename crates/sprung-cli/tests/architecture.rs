@@ -175,6 +175,28 @@ fn stage_faults(architecture: &str, stages: &[(String, String)]) -> Vec<String> 
     faults
 }
 
+/// The paths the stages' **Files** bullets name (a code span with a `/`
+/// or ending in `.rs`, up to the next bullet) that are not in `entries`.
+fn stale_files(architecture: &str, stages: &[(String, String)], entries: &[String]) -> Vec<String> {
+    let mut gone = Vec::new();
+    for (variant, name) in stages {
+        let heading = format!("### {name} (`Stage::{variant}`)");
+        let lines = section(architecture, &heading);
+        let files = lines
+            .iter()
+            .skip_while(|line| !line.starts_with("- **Files**"))
+            .enumerate()
+            .take_while(|(k, line)| *k == 0 || !line.starts_with("- "))
+            .flat_map(|(_, line)| code_spans(line));
+        for path in files.filter(|p| p.contains('/') || p.ends_with(".rs")) {
+            if !entries.iter().any(|entry| entry == path) {
+                gone.push(format!("{heading}: `{path}`"));
+            }
+        }
+    }
+    gone
+}
+
 /// The workspace's members under `root` and each one's dependencies (its
 /// `[dependencies]` and every target's), by name.
 fn workspace(root: &Path) -> Vec<(String, BTreeSet<String>)> {
@@ -284,6 +306,12 @@ fn every_stage_has_its_section_in_the_steps_order() {
     );
     let faults = stage_faults(&architecture(), &stages);
     assert!(faults.is_empty(), "ARCHITECTURE.md: {faults:?}");
+    let entries = entries(&root().join("crates/sprung/src"));
+    let gone = stale_files(&architecture(), &stages, &entries);
+    assert!(
+        gone.is_empty(),
+        "ARCHITECTURE.md's stage sections name files that are not there: {gone:?}"
+    );
 }
 
 #[test]
@@ -354,6 +382,19 @@ fn the_stage_check_fails_on_a_missing_section_or_part() {
     assert_eq!(
         stage_faults(whole, &stages),
         ["no section `### guard (`Stage::Guard`)`"]
+    );
+    // A file a section names that the tree lacks, on the bullet's second
+    // line; what the next bullet names is not a file.
+    let text = "\n### detect (`Stage::Detect`)\n\n- **Files**: `a/`,\n  `a/gone.rs`, `lib.rs`.\n\
+                - **Types**: `b/c.rs`\n";
+    let entries = [
+        "a/".to_string(),
+        "a/mod.rs".to_string(),
+        "lib.rs".to_string(),
+    ];
+    assert_eq!(
+        stale_files(text, &stages[..1], &entries),
+        ["### detect (`Stage::Detect`): `a/gone.rs`"]
     );
 }
 
