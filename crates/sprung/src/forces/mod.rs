@@ -104,8 +104,8 @@ pub struct ForceContext<'a> {
 }
 
 impl<'a> ForceContext<'a> {
-    /// The context of `model`'s forces at `state`.
-    pub fn new(model: &Model<'a>, state: State<'a>) -> Self {
+    /// What a force sees: `model`'s data at `state`.
+    pub fn new(model: Model<'a>, state: State<'a>) -> Self {
         ForceContext {
             time: state.time,
             position: state.position,

@@ -101,7 +101,7 @@ impl<'a> Dynamics<'a> {
             position,
             velocity,
         };
-        ForceContext::new(&self.model, state)
+        ForceContext::new(self.model, state)
     }
 
     /// Run `forces` as the forces stage: the integrate stage's time so far

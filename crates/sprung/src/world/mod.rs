@@ -33,6 +33,9 @@ mod state;
 mod step;
 mod tearing;
 
+/// The CCD's runaway measure, in body sizes: it lives with the CCD
+/// (`sprung::contact::ccd::RUNAWAY_SIZES`), named here as before.
+pub use crate::contact::ccd::RUNAWAY_SIZES;
 /// The derivative function of the world's model and forces: it lives with
 /// the integrators (`sprung::integrate::Dynamics`), named here as before.
 pub use crate::integrate::Dynamics;

@@ -172,7 +172,7 @@ impl World {
             position: &self.particles.position,
             velocity: &self.particles.velocity,
         };
-        ForceContext::new(&self.model_with(contacts), state)
+        ForceContext::new(self.model_with(contacts), state)
     }
 
     /// Exact enclosed volume (m³), or area for a 2D body (m²), of body
