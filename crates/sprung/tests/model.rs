@@ -1,19 +1,27 @@
 //! The integrate stage is a function of the model, the state, the forces
 //! and `dt` (`sprung::model`): a world stepped by hand through its parts
-//! (a `Model` of its data, `Dynamics::new(model, forces)` and an
-//! integrator of its own) takes the same bits as `World::step`, under every integrator, in 2D
-//! and in 3D, with gas, wind, gravity, drag and a controller's applied
-//! forces (the controls) in the force list.
+//! (`World::parts_mut`, `Dynamics::new(model, forces)` and an integrator
+//! of its own) takes the same bits as `World::step`, under every
+//! integrator, in 2D and in 3D, with gas, wind, gravity, drag and a
+//! controller's applied forces (the controls) in the force list.
 
 use sprung::build::{self, ClothSprings, SurfaceSprings};
 use sprung::forces::{AppliedForces, Wind, WindField, WindModel};
 use sprung::integrate::{Dynamics, IntegratorKind};
-use sprung::{Gas, Model, Particles, Vec3, World};
+use sprung::{BodyData, Gas, Vec3, World};
 
 /// Steps compared; each one's time is the world's before it.
 const STEPS: usize = 8;
 /// The step (s): below the scenes' stable steps for the explicit methods.
 const DT: f64 = 2e-4;
+
+/// `body` filled with `nrt` (J) of gas from the start.
+fn with_gas(body: BodyData, nrt: f64) -> BodyData {
+    BodyData {
+        gas: Some(Gas::new(nrt, 0.0)),
+        ..body
+    }
+}
 
 /// A gas ball in the wind beside a cloth pinned at two corners, pushed
 /// sideways by a controller (3D).
@@ -25,11 +33,7 @@ fn scene_3d(kind: IntegratorKind) -> World {
         .unwrap()
         .with_stiffness(500.0)
         .with_damping(0.2);
-    let ball = sprung::BodyData {
-        gas: Some(Gas::new(50.0, 0.0)),
-        ..ball
-    };
-    world.add_body("ball", ball).unwrap();
+    world.add_body("ball", with_gas(ball, 50.0)).unwrap();
     let cloth = build::cloth(6, 5, 1.0, 0.8, ClothSprings::default())
         .unwrap()
         .with_stiffness(800.0)
@@ -57,12 +61,11 @@ fn scene_2d(kind: IntegratorKind) -> World {
         .unwrap()
         .with_stiffness(300.0)
         .with_damping(0.1);
-    let ring = sprung::BodyData {
-        gas: Some(Gas::new(5.0, 0.0)),
-        ..ring
-    };
     world
-        .add_body("ring", ring.with_velocity(Vec3::new(0.5, 0.0, 0.0)))
+        .add_body(
+            "ring",
+            with_gas(ring, 5.0).with_velocity(Vec3::new(0.5, 0.0, 0.0)),
+        )
         .unwrap();
     world
 }
@@ -77,23 +80,9 @@ fn same_as_step(name: &str, kind: IntegratorKind, build: fn(IntegratorKind) -> W
     for step in 0..STEPS {
         let time = world.time();
         world.step(DT).unwrap();
-        // The state borrowed apart from the model data it is stepped under.
-        let Particles {
-            position,
-            velocity,
-            mass,
-            inverse_mass,
-            ..
-        } = &mut by_hand.particles;
-        let model = Model {
-            mass,
-            inverse_mass,
-            springs: &by_hand.springs,
-            bodies: &by_hand.bodies,
-            colliders: &by_hand.colliders,
-            contacts: &by_hand.contacts,
-        };
-        let mut dynamics = Dynamics::new(model, &mut by_hand.forces);
+        // The model, the forces and the state, borrowed apart.
+        let (model, forces, position, velocity) = by_hand.parts_mut();
+        let mut dynamics = Dynamics::new(model, forces);
         integrator
             .step(time, DT, position, velocity, &mut dynamics, &solver)
             .unwrap();

@@ -32,7 +32,7 @@ use super::Derivative;
 /// ```
 /// use sprung::build::rope;
 /// use sprung::integrate::{Dynamics, IntegratorKind};
-/// use sprung::{Model, Particles, Vec3, World};
+/// use sprung::{Vec3, World};
 ///
 /// let hanging = || {
 ///     let mut world = World::new(IntegratorKind::Rk4);
@@ -44,18 +44,10 @@ use super::Derivative;
 /// let (mut world, mut by_hand) = (hanging(), hanging());
 /// world.step(1e-3).unwrap();
 ///
-/// let Particles { position, velocity, mass, inverse_mass, .. } = &mut by_hand.particles;
-/// let model = Model {
-///     mass,
-///     inverse_mass,
-///     springs: &by_hand.springs,
-///     bodies: &by_hand.bodies,
-///     colliders: &by_hand.colliders,
-///     contacts: &by_hand.contacts,
-/// };
-/// let mut dynamics = Dynamics::new(model, &mut by_hand.forces);
-/// let mut integrator = IntegratorKind::Rk4.create();
 /// let solver = by_hand.settings.solver;
+/// let (model, forces, position, velocity) = by_hand.parts_mut();
+/// let mut dynamics = Dynamics::new(model, forces);
+/// let mut integrator = IntegratorKind::Rk4.create();
 /// integrator.step(0.0, 1e-3, position, velocity, &mut dynamics, &solver).unwrap();
 /// assert_eq!(by_hand.particles.position, world.particles.position);
 /// assert_eq!(by_hand.particles.velocity, world.particles.velocity);

@@ -515,13 +515,29 @@ impl World {
         }
     }
 
-    /// Split the world into its derivative function (the model and the
-    /// forces, timed by the world's stage timer) and what the integrator
-    /// advances, the positions and velocities (disjoint borrows of its
-    /// fields): the integrate stage's `(model, state, forces, dt) → state`.
-    pub(super) fn split(
+    /// The world's parts as its integrate stage takes them, borrowed apart:
+    /// the model, the force list (the step's controls among its forces),
+    /// and the positions (m) and velocities (m/s) an integrator advances.
+    /// With [`Dynamics::new`] and an integrator of its own, a program steps
+    /// the world by hand as the function `(model, state, forces, dt) →
+    /// state` (the example of [`Dynamics`]).
+    pub fn parts_mut(&mut self) -> (Model<'_>, &mut ForceList, &mut [Vec3], &mut [Vec3]) {
+        let (model, forces, position, velocity, _, _) = self.parts();
+        (model, forces, position, velocity)
+    }
+
+    /// [`World::parts_mut`], with the integrator and the stage timer.
+    #[allow(clippy::type_complexity)]
+    fn parts(
         &mut self,
-    ) -> (Dynamics<'_>, &mut [Vec3], &mut [Vec3], &mut dyn Integrator) {
+    ) -> (
+        Model<'_>,
+        &mut ForceList,
+        &mut [Vec3],
+        &mut [Vec3],
+        &mut dyn Integrator,
+        &Timer,
+    ) {
         let Particles {
             position,
             velocity,
@@ -537,7 +553,25 @@ impl World {
             colliders: &self.colliders,
             contacts: &self.contacts,
         };
-        let dynamics = Dynamics::new(model, &mut self.forces).timed_by(&self.timer);
-        (dynamics, position, velocity, self.integrator.as_mut())
+        let integrator = self.integrator.as_mut();
+        (
+            model,
+            &mut self.forces,
+            position,
+            velocity,
+            integrator,
+            &self.timer,
+        )
+    }
+
+    /// Split the world into its derivative function (the model and the
+    /// forces, timed by the world's stage timer) and what the integrator
+    /// advances: the integrate stage's `(model, state, forces, dt) → state`.
+    pub(super) fn split(
+        &mut self,
+    ) -> (Dynamics<'_>, &mut [Vec3], &mut [Vec3], &mut dyn Integrator) {
+        let (model, forces, position, velocity, integrator, timer) = self.parts();
+        let dynamics = Dynamics::new(model, forces).timed_by(timer);
+        (dynamics, position, velocity, integrator)
     }
 }
