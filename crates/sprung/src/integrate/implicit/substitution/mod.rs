@@ -27,6 +27,10 @@ use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 
 use crate::units::{Real, Vec3};
 
+use kernel::{Dense, Supernode};
+
+mod kernel;
+
 /// Groups of subtrees solved side by side (fixed, not the threads', so that
 /// the arithmetic does not depend on them).
 pub const BINS: usize = 2;
@@ -62,6 +66,8 @@ pub(super) struct Substitution {
     top_slot: Vec<u32>,
     /// The top's columns' values, read by the bins backwards.
     top_values: Vec<Vec3>,
+    /// The top's scratch for one supernode's entries.
+    top_dense: Dense,
 }
 
 /// A group of whole subtrees: their supernodes in order, over a range of
@@ -71,75 +77,8 @@ struct Bin {
     supernodes: Vec<u32>,
     columns: Range<usize>,
     pushes: Vec<Vec3>,
-}
-
-/// One supernode's values and rows.
-struct Supernode<'a> {
-    /// Its width (columns).
-    width: usize,
-    /// Its rows below the diagonal block.
-    rows: &'a [u32],
-    /// How many of them are not the top's (they come first).
-    inside: usize,
-    /// Its values, column-major, `width + rows.len()` rows.
-    values: &'a [Real],
-}
-
-impl Supernode<'_> {
-    /// `L_s` forwards: its own entries `own` (its columns) solved, each
-    /// push `a v` on a row below subtracted from `below[row - end]` (`end`
-    /// its last column + 1) or, for the top's rows, handed to `top(row, a v)`.
-    fn forward(
-        &self,
-        own: &mut [Vec3],
-        (below, end): (&mut [Vec3], usize),
-        mut top: impl FnMut(u32, Vec3),
-    ) {
-        let height = self.width + self.rows.len();
-        let (inside, outside) = self.rows.split_at(self.inside);
-        for j in 0..self.width {
-            let column = &self.values[j * height..(j + 1) * height];
-            let v = own[j] / column[j];
-            own[j] = v;
-            for (o, &a) in own[j + 1..].iter_mut().zip(&column[j + 1..self.width]) {
-                *o -= a * v;
-            }
-            let (near, far) = column[self.width..].split_at(self.inside);
-            for (&row, &a) in inside.iter().zip(near) {
-                below[row as usize - end] -= a * v;
-            }
-            for (&row, &a) in outside.iter().zip(far) {
-                top(row, a * v);
-            }
-        }
-    }
-
-    /// `L_sᵀ` backwards: its own entries solved, the rows below read from
-    /// `below[row - end]` or, for the top's rows, by `top(row)`.
-    fn backward(
-        &self,
-        own: &mut [Vec3],
-        (below, end): (&[Vec3], usize),
-        top: impl Fn(u32) -> Vec3,
-    ) {
-        let height = self.width + self.rows.len();
-        let (inside, outside) = self.rows.split_at(self.inside);
-        for j in (0..self.width).rev() {
-            let column = &self.values[j * height..(j + 1) * height];
-            let mut v = own[j];
-            for (o, &a) in own[j + 1..].iter().zip(&column[j + 1..self.width]) {
-                v -= a * *o;
-            }
-            let (near, far) = column[self.width..].split_at(self.inside);
-            for (&row, &a) in inside.iter().zip(near) {
-                v -= a * below[row as usize - end];
-            }
-            for (&row, &a) in outside.iter().zip(far) {
-                v -= a * top(row);
-            }
-            own[j] = v / column[j];
-        }
-    }
+    /// Scratch for one supernode's entries.
+    dense: Dense,
 }
 
 impl Substitution {
@@ -282,6 +221,7 @@ impl Substitution {
                             .collect(),
                         columns: self.column[from]..self.column[to + 1],
                         pushes: Vec::new(),
+                        dense: Dense::default(),
                     }
                 })
                 .collect()
@@ -290,6 +230,7 @@ impl Substitution {
                 supernodes: (0..count as u32).collect(),
                 columns: 0..self.top_slot.len(),
                 pushes: Vec::new(),
+                dense: Dense::default(),
             }]
         };
         let mut slot = 0;
@@ -310,8 +251,20 @@ impl Substitution {
             .collect();
         self.top = top;
         self.top_values = vec![Vec3::ZERO; slot as usize];
+        let height = |s: usize| {
+            self.column[s + 1] - self.column[s] + self.row_start[s + 1] - self.row_start[s]
+        };
+        let tallest = |supernodes: &[u32]| {
+            supernodes
+                .iter()
+                .map(|&s| height(s as usize))
+                .max()
+                .unwrap_or(0)
+        };
+        self.top_dense = Dense::with_height(tallest(&self.top));
         for bin in &mut self.bins {
             bin.pushes = vec![Vec3::ZERO; slot as usize];
+            bin.dense = Dense::with_height(tallest(&bin.supernodes));
         }
     }
 
@@ -333,6 +286,7 @@ impl Substitution {
                     &mut own_columns[start..],
                     (below, end + offset),
                     |row, push| pushes[this.top_slot[row as usize] as usize] += push,
+                    &mut bin.dense,
                 );
             }
         });
@@ -341,7 +295,9 @@ impl Substitution {
                 y[c] -= bin.pushes[slot];
             }
         }
-        self.solve_top(values, y);
+        let mut dense = std::mem::take(&mut self.top_dense);
+        self.solve_top(values, y, &mut dense);
+        self.top_dense = dense;
         // Backwards: the top, then the bins side by side reading it.
         let mut top_values = std::mem::take(&mut self.top_values);
         for (slot, c) in self.top_columns().enumerate() {
@@ -358,6 +314,7 @@ impl Substitution {
                     &mut own_columns[start..],
                     (&*below, end + offset),
                     |row| top_values[this.top_slot[row as usize] as usize],
+                    &mut bin.dense,
                 );
             }
         });
@@ -374,20 +331,24 @@ impl Substitution {
 
     /// The top's supernodes forwards then backwards, in order: their rows
     /// below are the top's own.
-    fn solve_top(&self, values: &[Real], y: &mut [Vec3]) {
+    fn solve_top(&self, values: &[Real], y: &mut [Vec3], dense: &mut Dense) {
         for &s in &self.top {
             let s = s as usize;
             let (start, end) = (self.column[s], self.column[s + 1]);
             let (head, below) = y.split_at_mut(end);
             self.supernode(s, values)
-                .forward(&mut head[start..], (below, end), |_, _| ());
+                .forward(&mut head[start..], (below, end), |_, _| (), dense);
         }
         for &s in self.top.iter().rev() {
             let s = s as usize;
             let (start, end) = (self.column[s], self.column[s + 1]);
             let (head, below) = y.split_at_mut(end);
-            self.supernode(s, values)
-                .backward(&mut head[start..], (&*below, end), |_| Vec3::ZERO);
+            self.supernode(s, values).backward(
+                &mut head[start..],
+                (&*below, end),
+                |_| Vec3::ZERO,
+                dense,
+            );
         }
     }
 }

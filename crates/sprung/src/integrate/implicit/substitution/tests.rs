@@ -153,8 +153,7 @@ fn substitution_is_faers_solve(
             expected[(r, axis)] = value;
         }
     }
-    let mut solve_scratch =
-        MemBuffer::new(symbolic.solve_in_place_scratch::<Real>(3, Par::Seq));
+    let mut solve_scratch = MemBuffer::new(symbolic.solve_in_place_scratch::<Real>(3, Par::Seq));
     LltRef::new(&symbolic, &values).solve_in_place_with_conj(
         Conj::No,
         expected.as_mut(),
