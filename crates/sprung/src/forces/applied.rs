@@ -54,7 +54,7 @@ impl Force for AppliedForces {
 
     /// Independent of the state: both Jacobians are exactly zero.
     fn linearize(&mut self, _: &ForceContext) -> Linearization {
-        Linearization::Exact
+        Linearization::Zero
     }
 
     fn add_jacobian_products(

@@ -219,7 +219,10 @@ impl Force for BodyContacts {
                     self.active.push(Active { touch, push });
                 }
             });
-        Linearization::Approximate
+        match self.active.is_empty() {
+            true => Linearization::Zero,
+            false => Linearization::Approximate,
+        }
     }
 
     fn add_jacobian_products(

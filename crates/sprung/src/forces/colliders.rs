@@ -94,7 +94,10 @@ impl Force for ColliderContacts {
                 }
             }
         }
-        Linearization::Approximate
+        match self.active.is_empty() {
+            true => Linearization::Zero,
+            false => Linearization::Approximate,
+        }
     }
 
     fn add_jacobian_products(

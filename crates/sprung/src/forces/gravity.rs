@@ -80,7 +80,7 @@ impl Force for Gravity {
 
     /// Constant force: both Jacobians are exactly zero.
     fn linearize(&mut self, _context: &ForceContext) -> Linearization {
-        Linearization::Exact
+        Linearization::Zero
     }
 
     fn add_jacobian_products(

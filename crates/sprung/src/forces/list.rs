@@ -190,14 +190,17 @@ impl ForceList {
     }
 
     /// Linearise the forces `which` asks for at `context`; the least exact
-    /// [`Linearization`] among them (`Exact` for none).
+    /// [`Linearization`] among those with Jacobian products
+    /// ([`Linearization::has_products`]), or [`Linearization::Zero`] when
+    /// none has: then [`ForceList::jacobian_products`] is zero.
     pub fn linearize(&mut self, context: &ForceContext, which: Jacobians) -> Linearization {
         self.forces
             .iter_mut()
             .filter(|f| asked_for(f.as_ref(), context, which))
             .map(|f| f.linearize(context))
+            .filter(|l| l.has_products())
             .max()
-            .unwrap_or(Linearization::Exact)
+            .unwrap_or(Linearization::Zero)
     }
 
     /// Set `out` to the sum of the Jacobian products with `p` of the forces

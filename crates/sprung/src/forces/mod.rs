@@ -145,7 +145,11 @@ pub enum Jacobians {
 /// How a force takes part in an implicit solve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Linearization {
-    /// Its Jacobian products are exact (gravity, drag, the hand).
+    /// Its Jacobian is zero at this state: the force depends on neither
+    /// the positions nor the velocities (gravity, applied forces), or acts
+    /// on no particle now (a contact force with nothing touching).
+    Zero,
+    /// Its Jacobian products are exact (drag, the hand).
     Exact,
     /// Its Jacobian products are a symmetric, definite approximation of the
     /// exact ones (springs under compression, the curvature of a sphere
@@ -157,6 +161,14 @@ pub enum Linearization {
     /// its value at the start of the step (gas pressure, wind). Further
     /// Newton iterations re-evaluate it.
     Explicit,
+}
+
+impl Linearization {
+    /// Whether the force adds Jacobian products: not when they are zero
+    /// ([`Linearization::Zero`]) or left out ([`Linearization::Explicit`]).
+    pub fn has_products(self) -> bool {
+        matches!(self, Linearization::Exact | Linearization::Approximate)
+    }
 }
 
 /// A force acting on the particles.

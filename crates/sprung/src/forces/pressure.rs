@@ -148,7 +148,10 @@ impl Force for GasPressure {
                 self.stiff.push((body.particles.clone(), stiffness));
             }
         }
-        Linearization::Approximate
+        match self.stiff.is_empty() {
+            true => Linearization::Zero,
+            false => Linearization::Approximate,
+        }
     }
 
     fn add_jacobian_products(

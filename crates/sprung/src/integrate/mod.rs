@@ -79,7 +79,8 @@ pub trait Derivative {
     /// integrators hold them in their solves.
     fn contact_constraints(&self, state: State, dt: Real, out: &mut Vec<ContactConstraint>);
     /// Linearise the forces `which` asks for at `state`; the least exact
-    /// [`Linearization`].
+    /// [`Linearization`] among those with Jacobian products, or
+    /// [`Linearization::Zero`] when their products are all zero.
     fn linearize(&mut self, state: State, which: Jacobians) -> Linearization;
     /// Set `out` to `scale.position ∂f/∂x·p + scale.velocity ∂f/∂v·p` (N
     /// per unit of `p`) for the forces `which` asks for, the Jacobians taken

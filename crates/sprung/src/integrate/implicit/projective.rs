@@ -26,10 +26,11 @@
 //! `(M + dt² L - dt² K_o - dt D_o) δ = M (y - x_k) + dt² f(x_k, v_k)`, with
 //! `K_o`, `D_o` the Jacobians of every force but the springs (see
 //! [`Jacobians::AllButSprings`]). That system is solved by conjugate
-//! gradients preconditioned with the factored `M + dt² L`: when the other
-//! forces have no Jacobian (gravity, wind) the first iteration is exact, one
-//! back-substitution, as in the paper; penalty contacts and the gas add a
-//! few. A converged iteration is the exact backward-Euler step for every
+//! gradients preconditioned with the factored `M + dt² L`; when the other
+//! forces have no Jacobian products (gravity, wind, contacts with nothing
+//! touching) and no projection collider holds a particle, the matrix is
+//! the factored one and the solve is one substitution, as in the paper;
+//! penalty contacts and the gas add a few CG iterations. A converged iteration is the exact backward-Euler step for every
 //! force. The correction is small next to the positions, so its round-off
 //! is too, and since the internal forces and the rows of `L` sum to zero,
 //! the step conserves momentum.
@@ -157,8 +158,16 @@ impl Integrator for Projective {
                 position,
                 velocity,
             };
-            system.linearize(state, Jacobians::AllButSprings);
+            let others = system.linearize(state, Jacobians::AllButSprings);
             let mass = system.mass();
+            if !others.has_products() && self.held.contacts.is_empty() {
+                // The matrix is the factored `M + dt² L` itself: one
+                // substitution solves it, exactly to rounding.
+                factor.solve(&self.residual, &mut self.correction);
+                report.residual = Some(0.0);
+                add_correction(position, &self.correction);
+                continue;
+            }
             let mut matrix = GlobalMatrix {
                 system: &*system,
                 state,
@@ -188,12 +197,7 @@ impl Integrator for Projective {
             for (c, &impulse) in self.held.contacts.iter_mut().zip(&self.held.impulses) {
                 c.normal_change = impulse.max(0.0) / (mass[c.particle] * dt);
             }
-            let correction = &self.correction;
-            parallel::for_each_span(&mut *position, |start, x| {
-                for (x, d) in x.iter_mut().zip(&correction[start..]) {
-                    *x += *d;
-                }
-            });
+            add_correction(position, &self.correction);
         }
         finite_difference(position, &self.start_position, dt, velocity);
         for c in &self.held.contacts {
@@ -203,4 +207,13 @@ impl Integrator for Projective {
         }
         Ok(report)
     }
+}
+
+/// `x += δ` over particle vectors.
+fn add_correction(position: &mut [Vec3], correction: &[Vec3]) {
+    parallel::for_each_span(position, |start, x| {
+        for (x, d) in x.iter_mut().zip(&correction[start..]) {
+            *x += *d;
+        }
+    });
 }
