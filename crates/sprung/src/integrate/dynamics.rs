@@ -125,6 +125,10 @@ impl Derivative for Dynamics<'_> {
         self.forces.springs(&context).unwrap_or(&NO_SPRINGS)
     }
 
+    fn uniform_acceleration(&self) -> Vec3 {
+        self.forces.uniform_acceleration()
+    }
+
     fn force(&mut self, time: Real, position: &[Vec3], velocity: &[Vec3], force: &mut [Vec3]) {
         let context = self.context(time, position, velocity);
         Self::timed(self.timer, || self.forces.accumulate(&context, force));

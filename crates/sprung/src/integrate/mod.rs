@@ -54,6 +54,11 @@ pub trait Derivative {
     /// projective solver and the Laplacian preconditioner build their
     /// matrix `M + dt² L` from.
     fn springs(&self) -> &Springs;
+    /// The acceleration every particle's forces give it alike (m/s²):
+    /// gravity's ([`crate::forces::ForceList::uniform_acceleration`]). The
+    /// implicit solvers measure their residuals against the impulse it
+    /// gives in a step.
+    fn uniform_acceleration(&self) -> Vec3;
     /// Write the total force `f(x, v, t)` (N) into `force`, one entry per
     /// particle.
     fn force(&mut self, time: Real, position: &[Vec3], velocity: &[Vec3], force: &mut [Vec3]);
@@ -127,6 +132,10 @@ pub struct StepReport {
     /// [`Preconditioner::Auto`]: the one it chose); `None` for the other
     /// methods.
     pub preconditioner: Option<Preconditioner>,
+    /// How many times implicit Euler factored its stiffness preconditioner
+    /// in the step (auto keeps a factor across steps and makes it again
+    /// only when it stops paying); `None` for the other methods.
+    pub refactorings: Option<u32>,
 }
 
 impl StepReport {
@@ -148,6 +157,7 @@ impl StepReport {
             substeps: add(self.substeps, next.substeps),
             step_size: next.step_size.or(self.step_size),
             preconditioner: next.preconditioner.or(self.preconditioner),
+            refactorings: add(self.refactorings, next.refactorings),
         }
     }
 }

@@ -37,7 +37,8 @@ pub(super) fn jacobi(inverse_diagonal: &[Vec3], r: &[Vec3], z: &mut [Vec3]) {
 pub(super) struct CgOutcome {
     /// Iterations taken.
     pub iterations: u32,
-    /// Final relative residual `|b - A x| / |b|` (0 when `b = 0`).
+    /// Final relative residual `|b - A x| / max(|b|, scale)` (0 when both
+    /// are 0).
     pub residual: Real,
     /// The residual reached the tolerance.
     pub converged: bool,
@@ -54,6 +55,10 @@ pub(super) struct Limits<'a> {
     pub contacts: &'a [ContactConstraint],
     /// Relative residual at which to stop.
     pub tolerance: Real,
+    /// The step's own scale of the right side (its units): the residual is
+    /// measured against the larger of it and `|b|`, so that a right side
+    /// of rounding noise (a body at rest) takes no iterations. 0 for none.
+    pub scale: Real,
     /// Most iterations.
     pub max_iterations: u32,
 }
@@ -111,7 +116,8 @@ impl ConjugateGradient {
     /// starting from `x` (whose constrained directions are kept: zero for
     /// pinned particles, the prescribed values along contact normals). Stops
     /// when the relative residual is at most the tolerance or after the
-    /// most iterations.
+    /// most iterations; takes none when the right side is already within
+    /// the tolerance of the limits' scale.
     pub fn solve(
         &mut self,
         operator: &mut dyn Operator,
@@ -137,10 +143,15 @@ impl ConjugateGradient {
         }
         filter(&mut self.residual, &limits);
         let b_norm = dot(&self.residual, &self.residual).sqrt();
-        if b_norm == 0.0 {
+        let reference = b_norm.max(limits.scale);
+        if b_norm <= limits.tolerance * reference {
             return CgOutcome {
                 iterations: 0,
-                residual: 0.0,
+                residual: if reference > 0.0 {
+                    b_norm / reference
+                } else {
+                    0.0
+                },
                 converged: true,
             };
         }
@@ -168,7 +179,7 @@ impl ConjugateGradient {
             add_scaled(x, alpha, &self.direction);
             add_scaled(&mut self.residual, -alpha, &self.product);
             iterations += 1;
-            residual = dot(&self.residual, &self.residual).sqrt() / b_norm;
+            residual = dot(&self.residual, &self.residual).sqrt() / reference;
             if residual <= limits.tolerance {
                 break;
             }

@@ -61,6 +61,15 @@ use crate::units::{Real, Vec3};
 
 /// The name of the auto preconditioner's choice in a saved state.
 const FACTORED: &str = "implicit_euler.factored";
+/// The name of its kept factor's step and positions in a saved state:
+/// `dt` (s), then x, y, z (m) per particle.
+const FACTORED_AT: &str = "implicit_euler.factored_at";
+/// The name of the kept factor's back-off in a saved state: the steps to
+/// factor without trying the kept factor, and the span of the next wait.
+const BACKOFF: &str = "implicit_euler.backoff";
+
+/// The longest wait, in steps, before the kept factor is tried again.
+const LONGEST_WAIT: u32 = 16;
 
 /// Backward Euler with its Newton and conjugate-gradient buffers.
 #[derive(Debug, Default)]
@@ -77,8 +86,18 @@ pub struct ImplicitEuler {
     factor: Option<Factor>,
     /// The factored springs' Newton matrix of the stiffness preconditioner.
     stiffness: Option<StiffnessFactor>,
-    /// The auto preconditioner has taken the stiffness factor (for good).
-    factored: bool,
+    /// Where the auto preconditioner's kept stiffness factor was made: the
+    /// step (s) and the positions (m) it was factored at; no positions
+    /// while it has none (Jacobi until a solve needs more).
+    factored_at: (Real, Vec<Vec3>),
+    /// The kept factor is to be made again at `factored_at` before it is
+    /// used (a resumed run).
+    stale: bool,
+    /// Steps to factor at once, without trying the kept factor, and the
+    /// wait after the next kept factor that does not pay: after one fails,
+    /// it waits 1 step, then 2, 4, … up to [`LONGEST_WAIT`]; one that pays
+    /// ends the waits.
+    backoff: (u32, u32),
     /// The step's contacts, kept while Jacobi is tried.
     contacts_held: Vec<ContactConstraint>,
 }
@@ -107,25 +126,33 @@ struct Linearized<'a> {
 impl Linearized<'_> {
     /// Solve the Newton system `(right_side, x)` with `preconditioner` (not
     /// auto), its factor refreshed in `factors` (the Laplacian's, the
-    /// stiffness one's), the contacts held by `held` (released where they
-    /// pull, with `release`). The report carries the solve's iterations,
-    /// residual, convergence and preconditioner.
+    /// stiffness one's: factored at this state with `refactor`, else the one
+    /// it holds), the contacts held by `held` (released where they pull,
+    /// with `release`), measured against `scale` ([`super::cg::Limits`]).
+    /// The report carries the solve's iterations, residual, convergence,
+    /// preconditioner and refactorings.
+    #[allow(clippy::too_many_arguments)]
     fn solve(
         &self,
-        preconditioner: Preconditioner,
+        (preconditioner, refactor): (Preconditioner, bool),
         factors: &mut (&mut Option<Factor>, &mut Option<StiffnessFactor>),
         held: &mut HeldSolve,
         (right_side, x): (&[Vec3], &mut [Vec3]),
         settings: &SolverSettings,
+        scale: Real,
         release: bool,
     ) -> Result<StepReport, SolverError> {
+        let mut refactorings = 0;
         let factor = match preconditioner {
             Preconditioner::Laplacian => {
                 Factored::Laplacian(laplacian::refreshed(factors.0, self.dt, self.system)?)
             }
             Preconditioner::Stiffness => {
                 let factor = stiffness::prepared(factors.1, self.system)?;
-                factor.factor(self.dt, self.system, self.state.position)?;
+                if refactor || !factor.is_factored() {
+                    factor.factor(self.dt, self.system, self.state.position)?;
+                    refactorings = 1;
+                }
                 Factored::Stiffness(factor)
             }
             Preconditioner::Jacobi | Preconditioner::Auto => Factored::None,
@@ -140,13 +167,14 @@ impl Linearized<'_> {
         let mut report = StepReport {
             iterations: Some(0),
             preconditioner: Some(preconditioner),
+            refactorings: Some(refactorings),
             ..StepReport::default()
         };
         let v = self.state.velocity;
         held.solve(
             &mut matrix,
             (right_side, x),
-            (self.system.inverse_mass(), settings),
+            (self.system.inverse_mass(), settings, scale),
             release,
             |c| (c.normal_velocity() - v[c.particle].dot(c.normal)) * c.normal,
             &mut report,
@@ -155,9 +183,12 @@ impl Linearized<'_> {
     }
 }
 
-/// Add the iterations of `solved` to `report`'s.
+/// Add the iterations and refactorings of `solved` to `report`'s.
 fn add_iterations(report: &mut StepReport, solved: StepReport) {
     if let (Some(total), Some(more)) = (report.iterations.as_mut(), solved.iterations) {
+        *total += more;
+    }
+    if let (Some(total), Some(more)) = (report.refactorings.as_mut(), solved.refactorings) {
         *total += more;
     }
 }
@@ -225,8 +256,10 @@ impl Integrator for ImplicitEuler {
         };
         let mut report = StepReport {
             iterations: Some(0),
+            refactorings: Some(0),
             ..StepReport::default()
         };
+        let scale = super::step_scale(&*system, dt, 1);
         // Backward Euler takes every force at the end time, where moving
         // colliders and the gas schedule have got to.
         let time = time + dt;
@@ -295,54 +328,87 @@ impl Integrator for ImplicitEuler {
                 dt,
             };
             let mut factors = (&mut self.factor, &mut self.stiffness);
-            let (preconditioner, trial) = match solver.preconditioner {
-                Preconditioner::Auto if self.factored => (Preconditioner::Stiffness, None),
+            // The first iteration decides which contacts hold: those that
+            // pulled are released and the system solved again.
+            let release = newton == 0;
+            let solve = (&self.right_side[..], &mut self.correction[..]);
+            let kept = !self.factored_at.1.is_empty();
+            let (choice, limit) = match solver.preconditioner {
+                Preconditioner::Auto if kept && self.backoff.0 > 0 => {
+                    self.backoff.0 -= 1;
+                    ((Preconditioner::Stiffness, true), None)
+                }
+                Preconditioner::Auto if kept => {
+                    // The kept factor, made again first where a resumed
+                    // run left it (or its pattern changed), tried within
+                    // the iterations a new factor costs.
+                    let factor = stiffness::prepared(factors.1, &*system)?;
+                    let (kept_dt, at) = &self.factored_at;
+                    if (self.stale || !factor.is_factored()) && at.len() == n {
+                        factor.factor(*kept_dt, &*system, at)?;
+                    }
+                    self.stale = false;
+                    let limit = factor.refactor_after();
+                    ((Preconditioner::Stiffness, false), Some(limit))
+                }
                 Preconditioner::Auto => {
                     // A factor dearer than the most iterations a solve may
                     // take is never worth it (and may be large: a big 3D
                     // body's fill): Jacobi then, as the limits say.
                     let budget = stiffness::prepared(factors.1, &*system)?.budget();
                     let trial = (budget < solver.max_iterations).then_some(budget);
-                    (Preconditioner::Jacobi, trial)
+                    ((Preconditioner::Jacobi, false), trial)
                 }
-                chosen => (chosen, None),
+                chosen => ((chosen, true), None),
             };
-            if trial.is_some() {
+            if limit.is_some() {
                 self.contacts_held.clone_from(&self.held.contacts);
             }
             let settings = SolverSettings {
-                max_iterations: trial.unwrap_or(solver.max_iterations),
+                max_iterations: limit.unwrap_or(solver.max_iterations),
                 ..*solver
             };
-            // The first iteration decides which contacts hold: those that
-            // pulled are released and the system solved again.
-            let release = newton == 0;
-            let solve = (&self.right_side[..], &mut self.correction[..]);
             let mut solved = linearized.solve(
-                preconditioner,
+                choice,
                 &mut factors,
                 &mut self.held,
                 solve,
                 &settings,
+                scale,
                 release,
             )?;
+            if choice == (Preconditioner::Stiffness, false) && !solved.unconverged {
+                self.backoff = (0, 0);
+            }
             // A trial cut short by a stop (`crate::interrupt`) says nothing
-            // of Jacobi's cost: the choice waits for a whole one.
-            if trial.is_some() && solved.unconverged && !crate::interrupt::requested() {
-                // Jacobi would cost more than the factor: take the factor,
-                // from this solve on.
-                self.factored = true;
+            // of its cost: the choice waits for a whole one.
+            if limit.is_some() && solved.unconverged && !crate::interrupt::requested() {
+                if kept {
+                    let wait = self.backoff.1.clamp(1, LONGEST_WAIT);
+                    self.backoff = (wait, (2 * wait).min(LONGEST_WAIT));
+                }
+                // Jacobi, or the kept factor, would cost more than a new
+                // factor: factor at this state, and keep it.
                 add_iterations(&mut report, solved);
                 self.held.contacts.clone_from(&self.contacts_held);
                 let solve = (&self.right_side[..], &mut self.correction[..]);
                 solved = linearized.solve(
-                    Preconditioner::Stiffness,
+                    (Preconditioner::Stiffness, true),
                     &mut factors,
                     &mut self.held,
                     solve,
                     solver,
+                    scale,
                     release,
                 )?;
+                self.factored_at.0 = dt;
+                self.factored_at.1.clear();
+                self.factored_at.1.extend_from_slice(state.position);
+            }
+            if choice == (Preconditioner::Stiffness, true) && kept {
+                self.factored_at.0 = dt;
+                self.factored_at.1.clear();
+                self.factored_at.1.extend_from_slice(state.position);
             }
             add_iterations(&mut report, solved);
             report.residual = solved.residual;
@@ -366,15 +432,24 @@ impl Integrator for ImplicitEuler {
         Ok(report)
     }
 
-    /// Whether the auto preconditioner has taken the stiffness factor: a
-    /// resumed run goes on with it, as the run it was saved from does.
+    /// The auto preconditioner's kept factor, where it has one: a resumed
+    /// run makes it again at the same positions and goes on with it, as
+    /// the run it was saved from does.
     fn save_history(&self, state: &mut WorldState) {
-        state.put(FACTORED, vec![Real::from(u8::from(self.factored))]);
+        let (dt, at) = &self.factored_at;
+        state.put(FACTORED, vec![Real::from(u8::from(!at.is_empty()))]);
+        if !at.is_empty() {
+            let values = std::iter::once(*dt).chain(at.iter().flat_map(|x| x.to_array()));
+            state.put(FACTORED_AT, values.collect());
+            let (wait, next) = self.backoff;
+            state.put(BACKOFF, vec![Real::from(wait), Real::from(next)]);
+        }
     }
 
-    fn restore_history(&mut self, state: &WorldState, _particles: usize) -> Result<(), StateError> {
-        // States saved before the auto preconditioner have none: Jacobi.
-        self.factored = match state.get_any(FACTORED) {
+    fn restore_history(&mut self, state: &WorldState, particles: usize) -> Result<(), StateError> {
+        // States saved before the auto preconditioner have none: Jacobi;
+        // those saved before the kept factor, a flag alone: Jacobi too.
+        let factored = match state.get_any(FACTORED) {
             Err(_) => false,
             Ok([flag]) if *flag == 0.0 || *flag == 1.0 => *flag == 1.0,
             Ok(values) => {
@@ -385,6 +460,48 @@ impl Integrator for ImplicitEuler {
                 })
             }
         };
+        self.factored_at.1.clear();
+        (self.stale, self.backoff) = (false, (0, 0));
+        if let (true, Ok(values)) = (factored, state.get_any(FACTORED_AT)) {
+            let bad = |index: usize, value: Real| StateError::BadValue {
+                name: FACTORED_AT.to_string(),
+                index,
+                value,
+            };
+            if values.len() != 1 + 3 * particles {
+                return Err(bad(values.len(), Real::NAN));
+            }
+            if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+                return Err(bad(k, values[k]));
+            }
+            if values[0] <= 0.0 {
+                return Err(bad(0, values[0]));
+            }
+            self.factored_at.0 = values[0];
+            self.factored_at.1.extend(
+                values[1..]
+                    .chunks_exact(3)
+                    .map(|c| Vec3::new(c[0], c[1], c[2])),
+            );
+            self.stale = true;
+            self.backoff = match state.get_any(BACKOFF) {
+                Ok(&[wait, next])
+                    if [wait, next].iter().all(|v| {
+                        v.fract() == 0.0 && (0.0..=Real::from(LONGEST_WAIT)).contains(v)
+                    }) =>
+                {
+                    (wait as u32, next as u32)
+                }
+                Err(_) => (0, 0),
+                Ok(values) => {
+                    return Err(StateError::BadValue {
+                        name: BACKOFF.to_string(),
+                        index: 0,
+                        value: values.first().copied().unwrap_or(Real::NAN),
+                    })
+                }
+            };
+        }
         Ok(())
     }
 }

@@ -24,7 +24,7 @@ use cg::{ConjugateGradient, Limits, Operator};
 
 use crate::colliders::ContactConstraint;
 use crate::error::BuildError;
-use crate::integrate::StepReport;
+use crate::integrate::{Derivative, StepReport};
 use crate::parallel;
 use crate::units::{Real, Vec3};
 
@@ -99,7 +99,9 @@ pub const MAX_PROJECTIVE_ITERATIONS: u32 = 10_000;
 /// in one iteration; and backward Euler damps the swing away, leaving the
 /// rope at its static stretch, each spring stretched by the weight it
 /// holds over `k`: the lowest particle `1 + m g (1 + 2 + … + 19) / k` m
-/// down:
+/// down (each solve stops within 1e-10 of the step's gravity impulse, a
+/// force balance to that share of each weight, far below the 1e-9 m
+/// claimed):
 ///
 /// ```
 /// use sprung::integrate::{Preconditioner, SolverSettings};
@@ -108,7 +110,7 @@ pub const MAX_PROJECTIVE_ITERATIONS: u32 = 10_000;
 /// let mut world = World::new(IntegratorKind::ImplicitEuler);
 /// world.settings.solver = SolverSettings {
 ///     preconditioner: Preconditioner::Laplacian,
-///     tolerance: 1e-8,
+///     tolerance: 1e-10,
 ///     ..SolverSettings::default()
 /// };
 /// let (k, m, g) = (1e4, 1.0, 9.81);
@@ -116,8 +118,10 @@ pub const MAX_PROJECTIVE_ITERATIONS: u32 = 10_000;
 /// let dt = 100.0 * world.stable_time_step();
 /// for _ in 0..20 {
 ///     let report = world.step(dt).unwrap();
-///     assert_eq!(report.iterations, Some(1));
-///     assert!(report.residual.unwrap() <= 1e-8);
+///     // One iteration; none once the rope is at rest (within the
+///     // tolerance of the step's gravity impulse).
+///     assert!(report.iterations.is_some_and(|i| i <= 1));
+///     assert!(report.residual.unwrap() <= 1e-10);
 /// }
 /// assert_eq!(world.solver_stats().unconverged_steps, 0);
 /// let stretched = 1.0 + m * g * 190.0 / k;
@@ -125,9 +129,12 @@ pub const MAX_PROJECTIVE_ITERATIONS: u32 = 10_000;
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolverSettings {
-    /// Relative residual `|b - A x| / |b|` at which conjugate gradients stop
-    /// (each linear solve of implicit Euler, each global step of the
-    /// projective solver). Default 1e-6.
+    /// Relative residual `|b - A x| / max(|b|, s)` at which conjugate
+    /// gradients stop (each linear solve of implicit Euler, each global
+    /// step of the projective solver), `s` the step's own scale: gravity's
+    /// impulse on the free particles `|dt g M|` (kg·m/s; `dt² |g M|`, kg·m,
+    /// for projective), so that a body at rest takes no iterations.
+    /// Default 1e-6.
     pub tolerance: Real,
     /// Most conjugate-gradient iterations per linear solve; reaching it
     /// above the tolerance is reported. Default 1000.
@@ -227,6 +234,22 @@ fn finite_difference(position: &[Vec3], start_position: &[Vec3], dt: Real, veloc
     });
 }
 
+/// `|dt^power a M|` over the free particles (a norm over particle vectors):
+/// the impulse (`power` 1, kg·m/s) or the displacement times mass (`power`
+/// 2, kg·m) the uniform acceleration `a` (m/s², gravity's) gives them in a
+/// step of `dt` (s). The implicit solvers' residuals are measured against
+/// it where the right side is smaller (see [`cg::Limits::scale`]).
+fn step_scale(system: &dyn Derivative, dt: Real, power: i32) -> Real {
+    let (mass, inverse_mass) = (system.mass(), system.inverse_mass());
+    let free = parallel::sum(mass.len(), |range| {
+        range
+            .filter(|&i| inverse_mass[i] != 0.0)
+            .map(|i| mass[i] * mass[i])
+            .sum()
+    });
+    dt.powi(power) * system.uniform_acceleration().length() * free.sqrt()
+}
+
 /// Most times a solve is done again after releasing contacts that pulled.
 const RELEASE_PASSES: usize = 3;
 
@@ -255,7 +278,7 @@ impl HeldSolve {
         &mut self,
         matrix: &mut dyn Operator,
         (right_side, x): (&[Vec3], &mut [Vec3]),
-        (inverse_mass, solver): (&[Real], &SolverSettings),
+        (inverse_mass, solver, scale): (&[Real], &SolverSettings, Real),
         release: bool,
         start: impl Fn(&ContactConstraint) -> Vec3,
         report: &mut StepReport,
@@ -270,6 +293,7 @@ impl HeldSolve {
                 inverse_mass,
                 contacts: &self.contacts,
                 tolerance: solver.tolerance,
+                scale,
                 max_iterations: solver.max_iterations,
             };
             let outcome = self.cg.solve(matrix, right_side, x, limits);

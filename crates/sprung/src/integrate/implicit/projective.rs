@@ -136,6 +136,7 @@ impl Integrator for Projective {
             ..StepReport::default()
         };
         let time = time + dt;
+        let scale = super::step_scale(&*system, dt, 2);
         for iteration in 0..solver.iterations {
             // Asked to stop (`crate::interrupt`): the iterate so far.
             if iteration > 0 && crate::interrupt::requested() {
@@ -181,7 +182,7 @@ impl Integrator for Projective {
             self.held.solve(
                 &mut matrix,
                 (&self.residual, &mut self.correction),
-                (system.inverse_mass(), solver),
+                (system.inverse_mass(), solver, scale),
                 iteration == 0,
                 |c| {
                     let i = c.particle;

@@ -19,16 +19,17 @@
 //! together), the pattern and the symbolic analysis are made once per set
 //! of springs and pins; each linearisation fills the values in place and
 //! factors them again, serially (faer's sequential factorisation: the same
-//! bits on any number of threads), allocating nothing. A factor kept from
-//! an earlier step would not do: a stiff cloth's springs turn by a few
-//! hundredths of a radian a step, which puts `k θ²` of their stiffness
-//! across them, far above the particles' masses (measured: hundreds of
-//! iterations a step from a factor one step old).
+//! bits on any number of threads), allocating nothing.
 //!
 //! Where `preconditioner = "auto"` (the default) implicit Euler tries the
 //! Jacobi preconditioner first, within the number of its iterations that
 //! cost as much as a step with this factor ([`Pattern::budget`]), and
-//! takes this factor from the first solve that needs more.
+//! takes this factor from the first solve that needs more. It then keeps
+//! the factor across steps: a cloth hung in its plane, or coming to rest,
+//! changes its springs' directions little, and the factor of an earlier
+//! state converges in a few iterations. A solve that needs more than a
+//! new factorisation costs ([`StiffnessFactor::refactor_after`]) factors
+//! at the state it is at and goes on from there.
 
 use std::fmt;
 
@@ -81,6 +82,8 @@ struct Pattern {
     order: (Vec<u32>, Vec<u32>),
     /// Jacobi iterations that cost as much as a solve with the factor.
     budget: u32,
+    /// Iterations with a kept factor that cost as much as factoring again.
+    refactor_after: u32,
 }
 
 impl Pattern {
@@ -118,6 +121,9 @@ impl Pattern {
             27.0 * FACTOR_NS * flops.n_mult_subs_ldl + 9.0 * SOLVE_NS * (flops.n_div + rows as f64);
         let iteration_ns = JACOBI_NS.0 * springs.len() as Real + JACOBI_NS.1 * rows as Real;
         let budget = (step_ns / iteration_ns.max(1.0)).clamp(1.0, u32::MAX as Real) as u32;
+        let factor_ns = 27.0 * FACTOR_NS * flops.n_mult_subs_ldl;
+        let kept_ns = 9.0 * SOLVE_NS * (flops.n_div + rows as f64) + iteration_ns;
+        let refactor_after = (factor_ns / kept_ns.max(1.0)).clamp(2.0, u32::MAX as Real) as u32;
         let blocks = |p: &[u32]| {
             p.iter()
                 .flat_map(|&r| [3 * r, 3 * r + 1, 3 * r + 2])
@@ -129,6 +135,7 @@ impl Pattern {
             unknown,
             particle,
             budget,
+            refactor_after,
         })
     }
 
@@ -338,6 +345,18 @@ impl StiffnessFactor {
     /// the flops of the particles' order and a fixed cost model.
     pub(super) fn budget(&self) -> u32 {
         self.pattern.budget
+    }
+
+    /// The iterations a solve with a factor kept from an earlier state may
+    /// take before factoring again pays (as many as cost a factorisation,
+    /// in the same cost model; at least 2).
+    pub(super) fn refactor_after(&self) -> u32 {
+        self.pattern.refactor_after
+    }
+
+    /// Whether it holds a factor (of some earlier state).
+    pub(super) fn is_factored(&self) -> bool {
+        self.numeric.is_some()
     }
 
     /// Fill the matrix at `position` (m) for a step of `dt` (s) and factor
