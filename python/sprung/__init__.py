@@ -81,8 +81,9 @@ def loads(text: str, base_dir: Optional[PathLike] = None,
 
 class Diagnostics(dict):
     """A run's diagnostics: each column of ``diagnostics.csv`` by its name,
-    as a numpy array (``step`` int64, the rest float64, NaN where the CSV
-    cell is empty), the same numbers bit for bit.
+    as a numpy array (``step`` int64, ``solver_preconditioner`` strings,
+    the rest float64, NaN where the CSV cell is empty), the same numbers
+    bit for bit.
 
     Attributes:
         csv: the table as ``sprung run`` writes it.
@@ -90,7 +91,10 @@ class Diagnostics(dict):
 
     def __init__(self, csv: str):
         # Read by the reader of `sprung plot`: exact, NaN for empty cells.
-        columns = dict(_native.columns(csv)) if csv.strip() else {}
+        columns = {
+            name: np.asarray(values, dtype=str) if isinstance(values, list) else values
+            for name, values in (_native.columns(csv) if csv.strip() else [])
+        }
         super().__init__(columns)
         self.csv = csv
 

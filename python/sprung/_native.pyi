@@ -88,9 +88,10 @@ def plot(text: str, name: str = "run", width: int = 1000,
     body has gas."""
 
 
-def columns(text: str) -> List[Tuple[str, npt.NDArray]]:
-    """The columns of a diagnostics CSV text (``step`` int64, the rest
-    float64 with NaN for empty cells)."""
+def columns(text: str) -> List[Tuple[str, Union[npt.NDArray, List[str]]]]:
+    """The columns of a diagnostics CSV text (``step`` int64, the text
+    column ``solver_preconditioner`` a list of strings, the rest float64
+    with NaN for empty cells)."""
 
 
 @final

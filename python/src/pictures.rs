@@ -126,7 +126,8 @@ pub fn plot(
 
 /// The columns of a diagnostics CSV `text`, read by `sprung plot`'s
 /// reader: each name with its values (NaN for an empty cell), `step` as
-/// whole numbers.
+/// whole numbers, the text columns (`solver_preconditioner`) as a list of
+/// strings.
 #[pyfunction]
 pub fn columns<'py>(py: Python<'py>, text: &str) -> PyResult<Vec<(String, Bound<'py, PyAny>)>> {
     let table = DiagnosticsTable::parse(text, Path::new("diagnostics.csv"))
@@ -135,6 +136,10 @@ pub fn columns<'py>(py: Python<'py>, text: &str) -> PyResult<Vec<(String, Bound<
         .names()
         .iter()
         .map(|name| {
+            if let Some(words) = table.text_column(name) {
+                let list = pyo3::types::PyList::new(py, words)?;
+                return Ok((name.clone(), list.into_any()));
+            }
             let cells = table.column(name).unwrap_or_default();
             let array = if name == "step" {
                 let steps: Vec<i64> = cells.iter().map(|c| c.unwrap_or(0.0) as i64).collect();

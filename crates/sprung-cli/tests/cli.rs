@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{assert_no_partial_files, csv, sprung, text, write, BLOW_UP_SCENE};
+use common::{assert_no_partial_files, csv, csv_text, sprung, text, write, BLOW_UP_SCENE};
 
 use std::path::Path;
 
@@ -43,7 +43,7 @@ fn run_writes_the_contracted_columns() {
         "--quiet prints nothing"
     );
     let (header, rows) = csv(&dir.path().join("res/diagnostics.csv"));
-    let expected = "step,time,kinetic,spring,gravity,gas,total,contact,gravitation,contacts,solver_iterations,solver_residual,substeps,step_size,ccd_impulses,ccd_zones,bob.volume,bob.pressure,bob.cx,bob.cy,bob.cz,p1.x,p1.y,p1.z";
+    let expected = "step,time,kinetic,spring,gravity,gas,total,contact,gravitation,contacts,solver_iterations,solver_residual,substeps,step_size,ccd_impulses,ccd_zones,solver_preconditioner,solver_refactorings,bob.volume,bob.pressure,bob.cx,bob.cy,bob.cz,p1.x,p1.y,p1.z";
     assert_eq!(header.join(","), expected);
     // Step 0, then every 10th of 100 steps.
     assert_eq!(rows.len(), 11);
@@ -446,8 +446,34 @@ fn the_auto_preconditioner_says_when_it_takes_the_factor() {
         .iter()
         .position(|c| c == "solver_iterations")
         .expect("iterations column");
-    // The last steps are factored: one iteration each.
-    assert_eq!(rows[rows.len() - 1][iterations], 1.0);
+    // The last steps are factored: one iteration with a new factor, after
+    // at most a trial of the kept one within its 2 iterations (so small a
+    // cloth factors for less than 2 iterations cost).
+    assert!(rows[rows.len() - 1][iterations] <= 3.0);
+    // The choice in the table: none in the first row (no step led to it),
+    // Jacobi first, the stiffness factor from the step that took it on,
+    // factored once at that step.
+    let path = dir.path().join("auto/diagnostics.csv");
+    let (chosen, refactorings) = (
+        csv_text(&path, "solver_preconditioner"),
+        csv_text(&path, "solver_refactorings"),
+    );
+    assert_eq!((chosen[0].as_str(), refactorings[0].as_str()), ("", ""));
+    assert_eq!(chosen[1], "jacobi");
+    let took = chosen
+        .iter()
+        .position(|c| c == "stiffness")
+        .expect("took it");
+    assert!(
+        chosen[took..].iter().all(|c| c == "stiffness"),
+        "{chosen:?}"
+    );
+    assert!(chosen[1..took].iter().all(|c| c == "jacobi"), "{chosen:?}");
+    assert_eq!(refactorings[took], "1");
+    assert!(
+        refactorings[1..took].iter().all(|r| r == "0"),
+        "{refactorings:?}"
+    );
     let quiet = sprung(
         &["run", "auto.toml", "--out", "quiet", "--quiet"],
         dir.path(),

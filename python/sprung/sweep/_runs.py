@@ -78,7 +78,7 @@ def run_task(task: dict) -> dict:
             lines = csv_text.splitlines()
             if len(lines) > 1:
                 names, last = lines[0].split(","), lines[-1].split(",")
-                row["final"] = {name: (float(v) if v else None) for name, v in zip(names, last)}
+                row["final"] = {name: _cell(v) for name, v in zip(names, last)}
             row["steps"] = world.steps
             row["time"] = world.time
         row["wall_s"] = clock.perf_counter() - start
@@ -96,6 +96,17 @@ def run_task(task: dict) -> dict:
         raise
     return row
 
+
+
+def _cell(text):
+    """A cell of ``diagnostics.csv``: its number, None where it is empty,
+    a name (``solver_preconditioner``) as it is."""
+    if not text:
+        return None
+    try:
+        return float(text)
+    except ValueError:
+        return text
 
 #: What the sweep does with each run's outcome: its index and its future.
 Finish = Callable[[int, Future], None]

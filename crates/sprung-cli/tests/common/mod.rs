@@ -66,11 +66,12 @@ pub fn assert_no_partial_files(dir: &Path) {
 }
 
 /// Rows of a CSV file: header, then the records, as numbers (an empty
-/// cell as 0).
+/// cell as 0, a cell of the text column `solver_preconditioner` as NaN:
+/// [`csv_text`] reads it).
 pub fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let content = std::fs::read_to_string(path).expect("csv exists");
     let mut lines = content.lines();
-    let header = lines
+    let header: Vec<String> = lines
         .next()
         .expect("header")
         .split(',')
@@ -79,15 +80,25 @@ pub fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let rows = lines
         .map(|l| {
             l.split(',')
-                .map(|v| {
-                    if v.is_empty() {
-                        0.0
-                    } else {
-                        v.parse().expect("number")
-                    }
+                .zip(&header)
+                .map(|(v, name)| match (v.is_empty(), name.as_str()) {
+                    (true, _) => 0.0,
+                    (false, "solver_preconditioner") => f64::NAN,
+                    (false, _) => v.parse().expect("number"),
                 })
                 .collect()
         })
         .collect();
     (header, rows)
+}
+
+/// The cells of the CSV file's column `name`, as text, one per record.
+pub fn csv_text(path: &Path, name: &str) -> Vec<String> {
+    let content = std::fs::read_to_string(path).expect("csv exists");
+    let mut lines = content.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let column = header.iter().position(|c| *c == name).expect("the column");
+    lines
+        .map(|l| l.split(',').nth(column).unwrap_or("").to_string())
+        .collect()
 }

@@ -197,7 +197,9 @@ impl Diagnostics {
     /// starting row; the substeps and the last substep's length (s) where a
     /// step was split (`rk45`, `substeps`); the impulses and impact zones
     /// of the CCD behind the contacts in the step that led here
-    /// (`ccd_impulses`, `ccd_zones`); where springs can break or yield,
+    /// (`ccd_impulses`, `ccd_zones`); implicit Euler's preconditioner and
+    /// factorisations in that step (`solver_preconditioner`,
+    /// `solver_refactorings`); where springs can break or yield,
     /// the springs and joins broken so far (`broken`).
     pub fn record(&mut self, world: &World) -> io::Result<()> {
         let mut bad: Option<NotFiniteValue> = None;
@@ -222,7 +224,7 @@ impl Diagnostics {
         }
         let ccd = world.last_ccd_report();
         row.push_str(&format!(
-            ",{},{},{},{},{},{},{}",
+            ",{},{},{},{},{},{},{},{},{}",
             world.active_contacts(),
             report.iterations.map(|i| i.to_string()).unwrap_or_default(),
             optional(report.residual),
@@ -230,6 +232,11 @@ impl Diagnostics {
             optional(report.step_size),
             ccd.impulses,
             ccd.zones,
+            report.preconditioner.map(|p| p.name()).unwrap_or_default(),
+            report
+                .refactorings
+                .map(|n| n.to_string())
+                .unwrap_or_default(),
         ));
         if world.limits.enabled() {
             row.push_str(&format!(",{}", world.limits.broken_count()));
@@ -512,7 +519,8 @@ fn header(world: &World, probes: &[usize]) -> String {
         header.push_str(&format!(",{name}"));
     }
     header.push_str(
-        ",contacts,solver_iterations,solver_residual,substeps,step_size,ccd_impulses,ccd_zones",
+        ",contacts,solver_iterations,solver_residual,substeps,step_size,ccd_impulses,ccd_zones,\
+         solver_preconditioner,solver_refactorings",
     );
     if world.limits.enabled() {
         header.push_str(",broken");

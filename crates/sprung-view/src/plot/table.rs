@@ -12,6 +12,9 @@ pub const REQUIRED_COLUMNS: [&str; 7] = [
     "step", "time", "kinetic", "spring", "gravity", "gas", "total",
 ];
 
+/// Columns that hold names, not numbers: implicit Euler's preconditioner.
+pub const TEXT_COLUMNS: [&str; 1] = ["solver_preconditioner"];
+
 /// Column suffixes of a body `NAME` (`NAME.volume`, ...).
 const BODY_SUFFIXES: [&str; 5] = ["volume", "pressure", "cx", "cy", "cz"];
 
@@ -24,6 +27,9 @@ pub struct DiagnosticsTable {
     path: PathBuf,
     names: Vec<String>,
     columns: Vec<Vec<Option<f64>>>,
+    /// The cells of the [`TEXT_COLUMNS`] present, by column index (their
+    /// numeric cells are all `None`).
+    texts: Vec<(usize, Vec<String>)>,
     time: Vec<f64>,
 }
 
@@ -88,6 +94,10 @@ impl DiagnosticsTable {
         let names: Vec<String> = header.split(',').map(|c| c.trim().to_string()).collect();
         check_header(&names, &expected).map_err(|m| fail(header_line, m))?;
         let mut columns = vec![Vec::new(); names.len()];
+        let mut texts: Vec<(usize, Vec<String>)> = (0..names.len())
+            .filter(|&i| TEXT_COLUMNS.contains(&names[i].as_str()))
+            .map(|i| (i, Vec::new()))
+            .collect();
         for (number, line) in lines {
             let cells: Vec<&str> = line.split(',').collect();
             if cells.len() != names.len() {
@@ -101,6 +111,23 @@ impl DiagnosticsTable {
                 ));
             }
             for (index, cell) in cells.iter().enumerate() {
+                if let Some((_, text)) = texts.iter_mut().find(|(i, _)| *i == index) {
+                    let word = cell.trim();
+                    if !word.chars().all(|c| c.is_ascii_lowercase() || c == '_') {
+                        let shown: String = word.chars().take(40).collect();
+                        return Err(fail(
+                            number,
+                            format!(
+                                "column {} (`{}`): `{shown}` is not a name",
+                                index + 1,
+                                names[index]
+                            ),
+                        ));
+                    }
+                    text.push(word.to_string());
+                    columns[index].push(None);
+                    continue;
+                }
                 let value = parse_cell(cell, index < 2).map_err(|m| {
                     fail(
                         number,
@@ -121,6 +148,7 @@ impl DiagnosticsTable {
             path: path.to_path_buf(),
             names,
             columns,
+            texts,
             time,
         })
     }
@@ -155,6 +183,16 @@ impl DiagnosticsTable {
     pub fn column(&self, name: &str) -> Option<&[Option<f64>]> {
         let index = self.names.iter().position(|n| n == name)?;
         Some(&self.columns[index])
+    }
+
+    /// The cells of the text column `name` (`solver_preconditioner`), if it is
+    /// one and present (empty strings for empty cells).
+    pub fn text_column(&self, name: &str) -> Option<&[String]> {
+        let index = self.names.iter().position(|n| n == name)?;
+        self.texts
+            .iter()
+            .find(|(i, _)| *i == index)
+            .map(|(_, cells)| &cells[..])
     }
 
     /// The names of the bodies (from the `NAME.volume`, ..., `NAME.cz`
