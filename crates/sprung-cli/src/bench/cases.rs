@@ -6,7 +6,7 @@ use sprung::integrate::Preconditioner;
 use sprung::{BodyData, Gas, IntegratorKind, Real, StrainLimits, Vec3, World};
 
 use super::contacts::{self, balls_in_a_box, folded_cloth};
-use super::stiff_cloth::{stiff_cloth, FRAME};
+use super::stiff_cloth::{hung_in_plane, light_cloth, stiff_cloth, FRAME};
 use crate::error::CliError;
 
 /// The groups of cases, to pick with `--only`.
@@ -25,6 +25,11 @@ pub enum Group {
     /// The 256² cloth with springs that may break or yield, against the
     /// same cloth without.
     Give,
+    /// Issue 51's stiff cloths at the frame rate, each solver at its
+    /// defaults: the light drape and the light cloth hung in its plane,
+    /// then what projective's substitution reads and the share of the
+    /// STREAM bound it reaches.
+    Frame,
 }
 
 impl Group {
@@ -37,6 +42,7 @@ impl Group {
             Group::Stiff => "stiff",
             Group::Contact => "contact",
             Group::Give => "give",
+            Group::Frame => "frame",
         }
     }
 }
@@ -330,7 +336,42 @@ pub fn cases(groups: &[Group], sizes: &[usize], integrators_size: usize, quick: 
             });
         }
     }
+    if wanted(Group::Frame) {
+        let (implicit, projective) = (IntegratorKind::ImplicitEuler, IntegratorKind::Projective);
+        for &size in frame_sizes(quick) {
+            // Implicit Euler's 256² factorisation alone takes seconds.
+            let kinds: &[IntegratorKind] = match size {
+                256 => &[projective],
+                _ => &[projective, implicit],
+            };
+            for &kind in kinds {
+                for hung in [false, true] {
+                    cases.push(Case {
+                        group: Group::Frame,
+                        name: format!("{} {size}²", if hung { "hung" } else { "drape" }),
+                        integrator: kind,
+                        build: Box::new(move || match hung {
+                            true => hung_in_plane(size, kind),
+                            false => light_cloth(size, kind, Preconditioner::Auto),
+                        }),
+                        dt: Step::Fixed(FRAME),
+                        compare: false,
+                        least_steps: 0,
+                    });
+                }
+            }
+        }
+    }
     cases
+}
+
+/// The sizes of [`Group::Frame`]'s cloths timed under `projective`.
+pub fn frame_sizes(quick: bool) -> &'static [usize] {
+    if quick {
+        &[16]
+    } else {
+        &[32, 64, 128, 256]
+    }
 }
 
 /// The step of `case` for `world` (s).

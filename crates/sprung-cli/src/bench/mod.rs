@@ -13,6 +13,7 @@
 mod cases;
 mod contacts;
 mod demos;
+mod frame;
 mod goals;
 mod gpu;
 pub mod memory;
@@ -148,6 +149,22 @@ struct Row {
     /// The share of the timed steps spent in the give stage (springs that
     /// yield and break; `give` cases only).
     give_share: Option<f64>,
+    /// The bytes a step must move over the STREAM triad's rate on as many
+    /// threads ([`bytes_per_step`]; symplectic Euler's cloths, where the
+    /// triad was measured).
+    stream_share: Option<f64>,
+}
+
+/// The bytes a symplectic-Euler step must move at the least: each spring's
+/// 34 bytes of the schedule, read once (docs/performance.md, "Against the
+/// bounds"); each particle's position and velocity (f64 × 3) read and
+/// written, its inverse mass read. 20.1 MB for the 256² cloth. `None` for
+/// the other integrators, whose passes over the data vary.
+fn bytes_per_step(kind: IntegratorKind, particles: usize, springs: usize) -> Option<f64> {
+    const SPRING: usize = 34;
+    const PARTICLE: usize = 4 * 3 * 8 + 8;
+    (kind == IntegratorKind::SymplecticEuler)
+        .then(|| (springs * SPRING + particles * PARTICLE) as f64)
 }
 
 impl Row {
@@ -201,7 +218,8 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     // would count its threads' start and exit in the case's measurements.
     let one_pool = parallel::Pool::new(1).map_err(threads_error)?;
     let all_pool = parallel::Pool::new(all).map_err(threads_error)?;
-    println!("{}", machine(&one_pool, &all_pool, args.quick));
+    let (header, stream) = machine(&one_pool, &all_pool, args.quick);
+    println!("{header}");
     if args.demos {
         let least = if args.quick { 0.0 } else { seconds.max(1.0) };
         return all_pool.install(|| demos::run(steps, least));
@@ -242,9 +260,22 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         for mut row in timed {
             row.one_thread = one_thread;
             row.reference = reference;
+            let bandwidth = stream.map(|s| s[usize::from(row.threads > 1)]);
+            row.stream_share = bytes_per_step(row.integrator, row.particles, row.springs)
+                .zip(bandwidth)
+                .map(|(bytes, rate)| bytes / row.seconds_per_step / rate);
             print_row(&row, rows.is_empty());
             rows.push(row);
         }
+    }
+    if args.only.contains(&Group::Frame) {
+        let least = if args.quick { 0.0 } else { seconds.max(0.5) };
+        frame::print_substitutions(
+            cases::frame_sizes(args.quick),
+            [&one_pool, &all_pool],
+            stream,
+            least,
+        )?;
     }
     if let Some(path) = &args.csv {
         AtomicFile::write(path, csv(&rows).as_bytes())
@@ -254,8 +285,13 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The machine, the threads and the memory bandwidth, for the header.
-fn machine(one_pool: &parallel::Pool, all_pool: &parallel::Pool, quick: bool) -> String {
+/// The machine, the threads and the memory bandwidth, for the header; and
+/// the STREAM triad on one thread and on all (B/s), unless `quick`.
+fn machine(
+    one_pool: &parallel::Pool,
+    all_pool: &parallel::Pool,
+    quick: bool,
+) -> (String, Option<[f64; 2]>) {
     let threads = all_pool.threads();
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
@@ -270,9 +306,11 @@ fn machine(one_pool: &parallel::Pool, all_pool: &parallel::Pool, quick: bool) ->
         "machine: {cpu}, {threads} thread{} (sprung --threads N or SPRUNG_THREADS to change)",
         if threads == 1 { "" } else { "s" }
     );
+    let mut triad = None;
     if !quick {
         let one = stream::triad_bytes_per_second(one_pool);
         let every = stream::triad_bytes_per_second(all_pool);
+        triad = Some([one, every]);
         let _ = write!(
             header,
             "\nmemory bandwidth (STREAM triad, 3 × 64 MiB): {:.1} GB/s on 1 thread, {:.1} GB/s on {threads}",
@@ -286,7 +324,7 @@ fn machine(one_pool: &parallel::Pool, all_pool: &parallel::Pool, quick: bool) ->
             "\nspring arithmetic (the pull alone, data in cache): {one:.2e} springs/s on 1 thread, {every:.2e} on {threads}"
         );
     }
-    header
+    (header, triad)
 }
 
 /// Build `case` and time it on `pool`'s threads: a warm-up step or two
@@ -363,6 +401,7 @@ fn time(case: &Case, pool: &parallel::Pool, steps: u32, seconds: f64) -> Result<
             contact_pairs: contact.then(|| pairs as f64 / f64::from(taken)),
             ccd_share: contact.then(|| world.profile().share(Stage::Ccd)),
             give_share: give.then(|| world.profile().share(Stage::Give)),
+            stream_share: None,
         })
     })
 }
@@ -387,7 +426,7 @@ fn rate(value: Option<f64>) -> String {
 fn print_row(row: &Row, header: bool) {
     if header {
         println!(
-            "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10} {:>12} {:>12} {:>7} {:>9} {:>8} {:>8} {:>8} {:>9} {:>9} {:>6}",
+            "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10} {:>12} {:>12} {:>7} {:>9} {:>8} {:>8} {:>8} {:>9} {:>9} {:>6} {:>6}",
             "case",
             "integrator",
             "particles",
@@ -403,7 +442,8 @@ fn print_row(row: &Row, header: bool) {
             "alloc/st",
             "×textbook",
             "pairs/st",
-            "stage %"
+            "stage %",
+            "STREAM"
         );
     }
     let textbook = row.reference.map_or_else(
@@ -411,7 +451,7 @@ fn print_row(row: &Row, header: bool) {
         |r| format!("{:.2}", r / row.seconds_per_step),
     );
     println!(
-        "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10.4} {:>12} {:>12.3e} {:>7.2} {:>9.3} {:>8.1} {:>8.1} {:>8} {:>9} {:>9} {:>6}",
+        "{:<40} {:<16} {:>9} {:>9} {:>3} {:>10.4} {:>12} {:>12.3e} {:>7.2} {:>9.3} {:>8.1} {:>8.1} {:>8} {:>9} {:>9} {:>6} {:>6}",
         row.name,
         row.integrator.name(),
         row.particles,
@@ -430,7 +470,9 @@ fn print_row(row: &Row, header: bool) {
             .map_or_else(|| "–".into(), |p| format!("{p:.0}")),
         row.ccd_share
             .or(row.give_share)
-            .map_or_else(|| "–".into(), |s| format!("{:.1}", 100.0 * s))
+            .map_or_else(|| "–".into(), |s| format!("{:.1}", 100.0 * s)),
+        row.stream_share
+            .map_or_else(|| "–".into(), |s| format!("{s:.2}"))
     );
 }
 
@@ -440,13 +482,13 @@ fn csv(rows: &[Row]) -> String {
         "group,case,integrator,particles,springs,threads,dt,steps,ms_per_step,\
          spring_updates_per_s,particle_updates_per_s,speedup,simulated_s_per_s,\
          peak_bytes,stepping_bytes,bytes_allocated_per_step,textbook_ms_per_step,\
-         contact_pairs_per_step,ccd_share,give_share\n",
+         contact_pairs_per_step,ccd_share,give_share,stream_share\n",
     );
     for row in rows {
         let optional = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:e}"));
         let _ = writeln!(
             text,
-            "{},{},{},{},{},{},{:e},{},{:e},{},{:e},{:e},{:e},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{:e},{},{:e},{},{:e},{:e},{:e},{},{},{},{},{},{},{},{}",
             row.group.name(),
             row.name,
             row.integrator.name(),
@@ -467,6 +509,7 @@ fn csv(rows: &[Row]) -> String {
             optional(row.contact_pairs),
             optional(row.ccd_share),
             optional(row.give_share),
+            optional(row.stream_share),
         );
     }
     text

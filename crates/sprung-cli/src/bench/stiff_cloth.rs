@@ -35,6 +35,23 @@ pub fn light_cloth(
     })
 }
 
+/// Issue 51's light cloth hung in its plane (not laid flat first) from the
+/// two corners of its top edge: it stretches under its weight and settles
+/// within a second. `kind` at its defaults.
+pub fn hung_in_plane(size: usize, kind: IntegratorKind) -> Result<World, CliError> {
+    let cloth = build::cloth(size, size, 1.0, 1.0, ClothSprings::default())
+        .map_err(|e| CliError::Input(format!("hung cloth {size}: {e}")))?
+        .with_stiffness(2e4)
+        .with_total_mass(0.2)
+        .with_damping(0.5)
+        .with_pinned(vec![size * (size - 1), size * size - 1]);
+    let mut world = World::new(kind);
+    world
+        .add_body("cloth", cloth)
+        .map_err(|e| CliError::Input(e.to_string()))?;
+    Ok(world)
+}
+
 /// A cloth of `size × size` particles (1 m square, springs of 2·10⁴ N/m,
 /// its masses and damping set by `set`) hung from the two corners of its
 /// top edge, swinging down from flat, alone in a world of `kind`.

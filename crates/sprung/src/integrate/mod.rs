@@ -24,7 +24,10 @@ mod verlet;
 
 pub use dynamics::Dynamics;
 pub use euler::ExplicitEuler;
-pub use implicit::{ImplicitEuler, Preconditioner, Projective, SolverSettings};
+pub use implicit::{
+    measure_substitution, ImplicitEuler, Preconditioner, Projective, SolverSettings,
+    SubstitutionFigures,
+};
 pub use midpoint::Midpoint;
 pub use rk4::RungeKutta4;
 pub use rk45::RungeKutta45;

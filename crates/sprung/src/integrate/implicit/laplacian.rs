@@ -135,7 +135,7 @@ fn global_matrix(
 impl Factor {
     /// Build and factor `M + dt² L`, reusing `previous`'s symbolic analysis
     /// when the pattern is the same.
-    fn new(
+    pub(super) fn new(
         dt: Real,
         springs: &Springs,
         mass: &[Real],
@@ -251,6 +251,13 @@ impl Factor {
                 w.add(1, -pull);
             }
         });
+    }
+
+    /// The values the factor stores, and what one [`Factor::solve`] reads
+    /// of them and computes ([`Substitution::cost`]).
+    pub(super) fn cost(&self) -> (usize, f64, f64) {
+        let (bytes, multiply_adds) = self.substitution.cost();
+        (self.values.len(), bytes, multiply_adds)
     }
 
     /// `z = (M + dt² L)⁻¹ r` over the free particles; zero for pinned ones

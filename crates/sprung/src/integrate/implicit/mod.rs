@@ -12,12 +12,14 @@
 
 mod cg;
 mod euler;
+mod figures;
 mod laplacian;
 mod projective;
 mod stiffness;
 mod substitution;
 
 pub use euler::ImplicitEuler;
+pub use figures::{measure_substitution, SubstitutionFigures};
 pub use projective::Projective;
 
 use cg::{ConjugateGradient, Limits, Operator};
