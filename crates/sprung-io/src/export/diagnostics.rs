@@ -169,7 +169,10 @@ impl Diagnostics {
         let header = header(world, probes);
         if lines.next().transpose()?.as_deref() != Some(header.as_str()) {
             return Err(refuse(
-                "its columns are not this run's (another scene, or other --probe)".into(),
+                "its columns are not this run's (another scene, other --probe, or a table \
+                 written by an earlier sprung, before the solver_preconditioner and \
+                 solver_refactorings columns)"
+                    .into(),
             ));
         }
         let mut diagnostics = Diagnostics::create(path, world, probes)?;

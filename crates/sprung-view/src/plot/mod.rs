@@ -208,6 +208,11 @@ pub fn compare_png(
         ));
     };
     for (_, table) in runs {
+        if table.text_column(column).is_some() {
+            return Err(PlotError::Options(format!(
+                "`{column}` holds names, not numbers: it cannot be plotted"
+            )));
+        }
         if table.column(column).is_none() {
             return Err(PlotError::Malformed {
                 path: table.path().to_path_buf(),

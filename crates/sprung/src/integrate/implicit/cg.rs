@@ -159,7 +159,7 @@ impl ConjugateGradient {
         filter(&mut self.preconditioned, &limits);
         self.direction.copy_from_slice(&self.preconditioned);
         let mut rz = dot(&self.residual, &self.preconditioned);
-        let mut residual = 1.0;
+        let mut residual = b_norm / reference;
         let mut iterations = 0;
         while iterations < limits.max_iterations {
             // Asked to stop (`crate::interrupt`): the solution so far, as

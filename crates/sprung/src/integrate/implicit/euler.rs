@@ -56,6 +56,7 @@ use crate::error::SolverError;
 use crate::forces::{JacobianScale, Jacobians};
 use crate::integrate::{fit, Derivative, Integrator, IntegratorKind, State, StepReport};
 use crate::parallel;
+use crate::springs::Springs;
 use crate::state::{StateError, WorldState};
 use crate::units::{Real, Vec3};
 
@@ -67,6 +68,10 @@ const FACTORED_AT: &str = "implicit_euler.factored_at";
 /// The name of the kept factor's back-off in a saved state: the steps to
 /// factor without trying the kept factor, and the span of the next wait.
 const BACKOFF: &str = "implicit_euler.backoff";
+/// The name of the springs' rest lengths (m), stiffness (N/m) and damping
+/// (N·s/m) the kept factor was made with, in a saved state (muscles and
+/// yielding change them after).
+const FACTORED_SPRINGS: &str = "implicit_euler.factored_springs";
 
 /// The longest wait, in steps, before the kept factor is tried again.
 const LONGEST_WAIT: u32 = 16;
@@ -90,6 +95,9 @@ pub struct ImplicitEuler {
     /// step (s) and the positions (m) it was factored at; no positions
     /// while it has none (Jacobi until a solve needs more).
     factored_at: (Real, Vec<Vec3>),
+    /// The springs' rest lengths, stiffness and damping it was made with,
+    /// one after the other.
+    factored_springs: Vec<Real>,
     /// The kept factor is to be made again at `factored_at` before it is
     /// used (a resumed run).
     stale: bool,
@@ -180,6 +188,25 @@ impl Linearized<'_> {
             &mut report,
         );
         Ok(report)
+    }
+}
+
+/// Note where a kept factor was made: the step `dt` (s), the positions
+/// (m), the springs' rest lengths, stiffness and damping (no allocation
+/// once the buffers have their size).
+fn keep(
+    (kept_dt, at): &mut (Real, Vec<Vec3>),
+    kept_springs: &mut Vec<Real>,
+    dt: Real,
+    position: &[Vec3],
+    springs: &Springs,
+) {
+    *kept_dt = dt;
+    at.clear();
+    at.extend_from_slice(position);
+    kept_springs.clear();
+    for values in [&springs.rest_length, &springs.stiffness, &springs.damping] {
+        kept_springs.extend_from_slice(values);
     }
 }
 
@@ -335,21 +362,37 @@ impl Integrator for ImplicitEuler {
             let kept = !self.factored_at.1.is_empty();
             let (choice, limit) = match solver.preconditioner {
                 Preconditioner::Auto if kept && self.backoff.0 > 0 => {
-                    self.backoff.0 -= 1;
+                    if newton == 0 {
+                        self.backoff.0 -= 1;
+                    }
                     ((Preconditioner::Stiffness, true), None)
                 }
                 Preconditioner::Auto if kept => {
                     // The kept factor, made again first where a resumed
-                    // run left it (or its pattern changed), tried within
-                    // the iterations a new factor costs.
+                    // run left it (with the springs as they were), tried
+                    // within the iterations a new factor costs. Where the
+                    // particles or springs changed since, a new one.
                     let factor = stiffness::prepared(factors.1, &*system)?;
                     let (kept_dt, at) = &self.factored_at;
-                    if (self.stale || !factor.is_factored()) && at.len() == n {
-                        factor.factor(*kept_dt, &*system, at)?;
-                    }
+                    let springs = system.springs();
+                    let fits = at.len() == n && self.factored_springs.len() == 3 * springs.len();
+                    let remake = self.stale || !factor.is_factored();
                     self.stale = false;
-                    let limit = factor.refactor_after();
-                    ((Preconditioner::Stiffness, false), Some(limit))
+                    if remake && !fits {
+                        ((Preconditioner::Stiffness, true), None)
+                    } else {
+                        if remake {
+                            let mut kept_springs = springs.clone();
+                            let (rest, rates) = self.factored_springs.split_at(springs.len());
+                            let (stiffness, damping) = rates.split_at(springs.len());
+                            kept_springs.rest_length.copy_from_slice(rest);
+                            kept_springs.stiffness.copy_from_slice(stiffness);
+                            kept_springs.damping.copy_from_slice(damping);
+                            factor.factor_with(*kept_dt, (&kept_springs, system.mass()), at)?;
+                        }
+                        let limit = factor.refactor_after().min(solver.max_iterations);
+                        ((Preconditioner::Stiffness, false), Some(limit))
+                    }
                 }
                 Preconditioner::Auto => {
                     // A factor dearer than the most iterations a solve may
@@ -401,14 +444,22 @@ impl Integrator for ImplicitEuler {
                     scale,
                     release,
                 )?;
-                self.factored_at.0 = dt;
-                self.factored_at.1.clear();
-                self.factored_at.1.extend_from_slice(state.position);
+                keep(
+                    &mut self.factored_at,
+                    &mut self.factored_springs,
+                    dt,
+                    state.position,
+                    system.springs(),
+                );
             }
             if choice == (Preconditioner::Stiffness, true) && kept {
-                self.factored_at.0 = dt;
-                self.factored_at.1.clear();
-                self.factored_at.1.extend_from_slice(state.position);
+                keep(
+                    &mut self.factored_at,
+                    &mut self.factored_springs,
+                    dt,
+                    state.position,
+                    system.springs(),
+                );
             }
             add_iterations(&mut report, solved);
             report.residual = solved.residual;
@@ -443,6 +494,7 @@ impl Integrator for ImplicitEuler {
             state.put(FACTORED_AT, values.collect());
             let (wait, next) = self.backoff;
             state.put(BACKOFF, vec![Real::from(wait), Real::from(next)]);
+            state.put(FACTORED_SPRINGS, self.factored_springs.clone());
         }
     }
 
@@ -484,6 +536,13 @@ impl Integrator for ImplicitEuler {
                     .map(|c| Vec3::new(c[0], c[1], c[2])),
             );
             self.stale = true;
+            self.factored_springs.clear();
+            if let Ok(values) = state.get_any(FACTORED_SPRINGS) {
+                if let Some(k) = values.iter().position(|v| !v.is_finite() || *v < 0.0) {
+                    return Err(bad_springs(k, values[k]));
+                }
+                self.factored_springs.extend_from_slice(values);
+            }
             self.backoff = match state.get_any(BACKOFF) {
                 Ok(&[wait, next])
                     if [wait, next].iter().all(|v| {
@@ -503,5 +562,14 @@ impl Integrator for ImplicitEuler {
             };
         }
         Ok(())
+    }
+}
+
+/// A saved kept factor's spring value that cannot be one.
+fn bad_springs(index: usize, value: Real) -> StateError {
+    StateError::BadValue {
+        name: FACTORED_SPRINGS.to_string(),
+        index,
+        value,
     }
 }

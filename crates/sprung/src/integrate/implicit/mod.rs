@@ -249,7 +249,13 @@ fn step_scale(system: &dyn Derivative, dt: Real, power: i32) -> Real {
             .map(|i| mass[i] * mass[i])
             .sum()
     });
-    dt.powi(power) * system.uniform_acceleration().length() * free.sqrt()
+    let scale = dt.powi(power) * system.uniform_acceleration().length() * free.sqrt();
+    // Masses so large that the sum overflows: no floor.
+    if scale.is_finite() {
+        scale
+    } else {
+        0.0
+    }
 }
 
 /// Most times a solve is done again after releasing contacts that pulled.

@@ -367,12 +367,23 @@ impl StiffnessFactor {
         system: &dyn Derivative,
         position: &[Vec3],
     ) -> Result<(), SolverError> {
-        let springs = system.springs();
+        self.factor_with(dt, (system.springs(), system.mass()), position)
+    }
+
+    /// [`StiffnessFactor::factor`] with these springs (the world's ends,
+    /// their parameters as they were when a kept factor was made) and
+    /// masses (kg).
+    pub(super) fn factor_with(
+        &mut self,
+        dt: Real,
+        (springs, mass): (&Springs, &[Real]),
+        position: &[Vec3],
+    ) -> Result<(), SolverError> {
         if self.numeric.is_none() {
             self.numeric = Some(Numeric::new(springs, &self.pattern)?);
         }
         if let Some(numeric) = &mut self.numeric {
-            numeric.factor(&self.pattern, (dt, springs, system.mass()), position)?;
+            numeric.factor(&self.pattern, (dt, springs, mass), position)?;
         }
         Ok(())
     }
