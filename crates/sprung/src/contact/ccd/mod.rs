@@ -155,7 +155,22 @@ pub(crate) struct Ccd {
     /// The work of this (sub)step so far: narrow tests, and particles
     /// visited merging zones.
     work: u64,
+    /// Searches (`find`s) so far, below 2³¹ ([`broad::Stamp`]), and the
+    /// first of this (sub)step: a stamp from before it is stale.
+    searches: u32,
+    first_search: u32,
+    /// Per particle, the search in which its end was last seen to have
+    /// moved (this (sub)step), and where it ended then (m).
+    moved_at: Vec<u32>,
+    seen: Vec<Vec3>,
+    /// Test every pair again at every round (the tests' reference).
+    #[cfg(test)]
+    retest_all: bool,
 }
+
+/// Searches counted before the stamps start again ([`broad::Stamp`]
+/// keeps one bit for a collision).
+const MOST_SEARCHES: u32 = 1 << 30;
 
 /// The motion the CCD corrects: where each particle started the
 /// (sub)step and ended it (m), their velocities (m/s) and inverse masses
@@ -200,18 +215,27 @@ impl Ccd {
         let radius = RADIUS * thickness;
         self.thickness = thickness;
         let budget = work_budget(self.elements.list.len());
+        if self.searches >= MOST_SEARCHES {
+            self.searches = 0;
+            self.sweep.forget_stamps();
+        }
+        self.first_search = self.searches + 1;
         // Most steps find nothing: the ends are kept only for a step that
         // will move them.
-        self.find(start, position, inverse_mass, gap, radius)?;
+        self.find(start, position, inverse_mass, gap, radius, false)?;
         if self.hits.is_empty() {
             return Ok(report);
         }
         self.before.clear();
         self.before.extend_from_slice(position);
+        self.seen.clear();
+        self.seen.extend_from_slice(position);
+        self.moved_at.clear();
+        self.moved_at.resize(position.len(), self.first_search);
         let mut zoned = false;
         for round in 0.. {
             if round > 0 {
-                self.find(start, position, inverse_mass, gap, radius)?;
+                self.find(start, position, inverse_mass, gap, radius, zoned)?;
             }
             if self.work > budget {
                 return Err(Stopped::OverBudget(self.over_budget(bodies, budget, round)));
@@ -295,7 +319,13 @@ impl Ccd {
     /// in the sweep's order.
     /// A collision none of whose particles can move (all pinned, or of
     /// weight zero) is left out: nothing the CCD does changes it,
-    /// and the pinned paths are the scene's own.
+    /// and the pinned paths are the scene's own. Where `zoned`, a pair
+    /// whose particles are all of one impact zone is not tested: a rigid
+    /// motion has no collision within a zone (`zones`), and the rounds
+    /// pass over any that rounding makes. Nor is a kept pair tested again
+    /// whose test in an earlier round of this (sub)step found nothing
+    /// and none of whose particles has moved since: the test would find
+    /// the same.
     fn find(
         &mut self,
         start: &[Vec3],
@@ -303,18 +333,58 @@ impl Ccd {
         inverse_mass: &[Real],
         gap: Real,
         radius: Real,
+        zoned: bool,
     ) -> Result<(), Stopped> {
+        self.searches += 1;
+        let search = self.searches;
+        if search > self.first_search {
+            // The rounds after the first: which ends the last one moved.
+            for (p, (seen, &x)) in self.seen.iter_mut().zip(end.iter()).enumerate() {
+                if *seen != x {
+                    *seen = x;
+                    self.moved_at[p] = search;
+                }
+            }
+        }
+        let (first_search, moved_at) = (self.first_search, &self.moved_at);
+        #[cfg(test)]
+        let reuse = !self.retest_all;
+        #[cfg(not(test))]
+        let reuse = true;
         let elements = &self.elements;
         let hits = &mut self.hits;
         let work = &mut self.work;
+        let zones = &mut self.zones;
         hits.clear();
         self.sweep
             .prepare(elements, start, end, self.thickness, gap, radius)
             .map_err(Stopped::Runaway)?;
-        self.sweep.overlaps(elements, |a, b| {
+        self.sweep.overlaps(elements, |a, b, stamp| {
             let (ea, eb) = (&elements.list[a], &elements.list[b]);
+            let particles = || ea.particles().iter().chain(eb.particles());
+            if zoned {
+                let zone = zones.find(ea.particles[0]);
+                if particles().all(|&p| zones.find(p) == zone) {
+                    return;
+                }
+            }
+            if let Some(&last) = stamp.as_deref() {
+                // Tested this (sub)step, found nothing, nothing moved.
+                let tested = last >> 1;
+                let same = reuse
+                    && last & 1 == 0
+                    && tested >= first_search
+                    && particles().all(|&p| moved_at[p as usize] <= tested);
+                if same {
+                    return;
+                }
+            }
             *work += 1;
-            if let Some(hit) = test(ea, eb, start, end, gap, radius) {
+            let found = test(ea, eb, start, end, gap, radius);
+            if let Some(stamp) = stamp {
+                *stamp = (search << 1) | found.is_some() as u32;
+            }
+            if let Some(hit) = found {
                 let free = hit.particles.iter().zip(hit.weights);
                 if free
                     .clone()
@@ -512,3 +582,6 @@ fn respond(
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -35,29 +35,60 @@ pub(super) struct Hit {
     pub separation: Real,
 }
 
-/// Bisection steps on a root's interval: `2⁻⁴⁸` of the step, far below any
-/// motion that matters.
-const BISECTIONS: usize = 48;
+/// How close (in fractions of the step) two successive estimates of a
+/// root must come for the search to stop: `2⁻⁴⁸`, far below any motion
+/// that matters.
+const ROOT_TOLERANCE: Real = 1.0 / (1u64 << 48) as Real;
+
+/// The most iterations on one root's interval: each at least halves the
+/// bracket where Newton's step would leave it, so this is past the
+/// tolerance from any start.
+const MOST_ITERATIONS: usize = 64;
 
 /// The roots in `[0, 1]` of `f(t) = c₀ + c₁ t + c₂ t² + c₃ t³`, in
-/// increasing order (at most three), by bisection on the intervals where
-/// `f` is monotonic; a root exactly at an end counts.
+/// increasing order (at most three), on the intervals where `f` is
+/// monotonic, each by Newton's method kept inside the interval's bracket
+/// (a step that would leave it is a bisection instead), from the secant
+/// through the interval's ends; a root exactly at an end counts. Newton
+/// takes about five iterations where bisection took 48, and this search
+/// was a fifth of the CCD's time on sheets pressed together.
 fn cubic_roots(c: [Real; 4]) -> ([Real; 3], usize) {
+    // The cubic's Bernstein coefficients on [0, 1]: it lies within their
+    // hull, so where all four have one strict sign it has no root there
+    // (most pairs of layers that only near each other).
+    let bernstein = [
+        c[0],
+        c[0] + c[1] / 3.0,
+        c[0] + (2.0 * c[1] + c[2]) / 3.0,
+        c[0] + c[1] + c[2] + c[3],
+    ];
+    if bernstein.iter().all(|&b| b > 0.0) || bernstein.iter().all(|&b| b < 0.0) {
+        return ([0.0; 3], 0);
+    }
     let f = |t: Real| ((c[3] * t + c[2]) * t + c[1]) * t + c[0];
-    // The turning points: roots of f′ = c₁ + 2 c₂ t + 3 c₃ t².
+    let slope = |t: Real| (3.0 * c[3] * t + 2.0 * c[2]) * t + c[1];
+    // Below this, a value of f is its evaluation's rounding: the root is
+    // found as well as it can be.
+    let noise = 8.0 * Real::EPSILON * c.iter().map(|x| x.abs()).sum::<Real>();
+    // The turning points: roots of f′ = c₁ + 2 c₂ t + 3 c₃ t², unless f′'s
+    // own Bernstein coefficients share a sign (f monotonic on [0, 1]).
     let mut ends = [0.0; 4];
     let mut count = 1;
     let (qa, qb, qc) = (3.0 * c[3], 2.0 * c[2], c[1]);
+    let derivative = [qc, qc + 0.5 * qb, qa + qb + qc];
+    let monotonic = derivative.iter().all(|&d| d > 0.0) || derivative.iter().all(|&d| d < 0.0);
     let mut turning = [Real::NAN; 2];
-    if qa != 0.0 {
-        let disc = qb * qb - 4.0 * qa * qc;
-        if disc >= 0.0 {
-            let root = disc.sqrt();
-            let q = -0.5 * (qb + qb.signum() * root);
-            turning = [q / qa, if q != 0.0 { qc / q } else { -qb / (2.0 * qa) }];
+    if !monotonic {
+        if qa != 0.0 {
+            let disc = qb * qb - 4.0 * qa * qc;
+            if disc >= 0.0 {
+                let root = disc.sqrt();
+                let q = -0.5 * (qb + qb.signum() * root);
+                turning = [q / qa, if q != 0.0 { qc / q } else { -qb / (2.0 * qa) }];
+            }
+        } else if qb != 0.0 {
+            turning[0] = -qc / qb;
         }
-    } else if qb != 0.0 {
-        turning[0] = -qc / qb;
     }
     if turning[0] > turning[1] {
         turning.swap(0, 1);
@@ -92,16 +123,35 @@ fn cubic_roots(c: [Real; 4]) -> ([Real; 3], usize) {
             continue;
         }
         let rising = fhi > flo;
-        for _ in 0..BISECTIONS {
-            let mid = 0.5 * (lo + hi);
-            if (f(mid) > 0.0) == rising {
-                hi = mid;
+        // The secant's root lies strictly inside: flo and fhi differ in
+        // sign.
+        let mut t = (lo + flo / (flo - fhi) * (hi - lo)).clamp(lo, hi);
+        for _ in 0..MOST_ITERATIONS {
+            let value = f(t);
+            if value.abs() <= noise {
+                break;
+            }
+            if (value > 0.0) == rising {
+                hi = t;
             } else {
-                lo = mid;
+                lo = t;
+            }
+            // A zero or vanishing slope (a turning point at the bracket's
+            // end) gives no step inside: bisect.
+            let newton = t - value / slope(t);
+            let next = if newton > lo && newton < hi {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            let step = (next - t).abs();
+            t = next;
+            if step <= ROOT_TOLERANCE || hi - lo <= ROOT_TOLERANCE {
+                break;
             }
         }
         if found < 3 {
-            roots[found] = 0.5 * (lo + hi);
+            roots[found] = t;
             found += 1;
         }
     }
@@ -368,14 +418,104 @@ mod tests {
         // (t − 0.2)(t − 0.5)(t − 0.9) = t³ − 1.6 t² + 0.73 t − 0.09.
         let (roots, count) = cubic_roots([-0.09, 0.73, -1.6, 1.0]);
         assert_eq!(count, 3);
-        // Bisection to 2⁻⁴⁸ of the interval, the coefficients rounded:
-        // within 1e-12 of the exact roots.
+        // Newton's steps to 2⁻⁴⁸ (its error then a square of that), the
+        // coefficients rounded: within 1e-12 of the exact roots.
         for (r, e) in roots.iter().zip([0.2, 0.5, 0.9]) {
             assert!((r - e).abs() < 1e-12, "{roots:?}");
         }
         // A root at the end of the step counts; none outside [0, 1].
         assert_eq!(cubic_roots([-1.0, 1.0, 0.0, 0.0]), ([1.0, 0.0, 0.0], 1));
         assert_eq!(cubic_roots([-2.0, 1.0, 0.0, 0.0]).1, 0);
+    }
+
+    /// The roots of the cubic `c` in `[0, 1]`, one per interval between
+    /// the turning points `ends` where it changes sign, by 200
+    /// bisections: the reference Newton's method is held to.
+    fn bisected(c: [Real; 4], ends: &[Real]) -> Vec<Real> {
+        let f = |t: Real| ((c[3] * t + c[2]) * t + c[1]) * t + c[0];
+        let mut roots = Vec::new();
+        for w in ends.windows(2) {
+            let (mut lo, mut hi) = (w[0], w[1]);
+            if (f(lo) > 0.0) == (f(hi) > 0.0) {
+                continue;
+            }
+            let rising = f(hi) > f(lo);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if (f(mid) > 0.0) == rising {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            roots.push(0.5 * (lo + hi));
+        }
+        roots
+    }
+
+    #[test]
+    fn newton_finds_the_roots_bisection_finds() {
+        // Claim: on cubics with three simple roots in (0, 1), spread and
+        // clustered (down to 5e-5 apart), scaled from 1e-12 to 1e3 (the
+        // coplanarity of nearly flat cloth is tiny), the roots are the
+        // exact ones, and those of bisection to the last bit of the
+        // interval, to the cubic's rounding over its slope (the roots are
+        // simple, so Newton's error after a step of 2⁻⁴⁸ is about its
+        // square). And the cubic lifted above zero on [0, 1] gives none.
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut uniform = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as Real / (1u64 << 53) as Real
+        };
+        for case in 0..2000 {
+            let first = 0.05 + 0.3 * uniform();
+            let spacing = if case % 2 == 0 { 0.3 } else { 1e-4 };
+            let expected = [first, first + spacing * (0.5 + uniform()), 0.95];
+            let [r0, r1, r2] = expected;
+            let scale = Real::powf(10.0, -12.0 + 15.0 * uniform());
+            // scale (t − r0)(t − r1)(t − r2)
+            let c = [
+                -scale * r0 * r1 * r2,
+                scale * (r0 * r1 + r0 * r2 + r1 * r2),
+                -scale * (r0 + r1 + r2),
+                scale,
+            ];
+            let (roots, count) = cubic_roots(c);
+            assert_eq!(count, 3, "{c:?}");
+            // Where |f| falls below its rounding (8 ε Σ|cᵢ|, as in
+            // `cubic_roots`) the search stops: a root is then off by
+            // that over the slope, twice for the exact root (the
+            // coefficients are rounded too).
+            let rounding = 8.0 * Real::EPSILON * c.iter().map(|x| x.abs()).sum::<Real>() / scale;
+            let within = |e: Real| {
+                let slope = (e - r0) * (e - r1) + (e - r0) * (e - r2) + (e - r1) * (e - r2);
+                1e-15 + 2.0 * rounding / slope.abs()
+            };
+            for (r, e) in roots.iter().zip(expected) {
+                assert!((r - e).abs() < within(e), "{c:?}: {roots:?}");
+            }
+            // The same intervals as cubic_roots: split at the roots of f′
+            // (both inside (0, 1), between the three roots).
+            let (qa, qb, qc) = (3.0 * c[3], 2.0 * c[2], c[1]);
+            let disc = (qb * qb - 4.0 * qa * qc).sqrt();
+            let mut ends = vec![
+                0.0,
+                (-qb - disc) / (2.0 * qa),
+                (-qb + disc) / (2.0 * qa),
+                1.0,
+            ];
+            ends.sort_by(Real::total_cmp);
+            let reference = bisected(c, &ends);
+            for (r, e) in roots.iter().zip(&reference) {
+                let near = (r - e).abs() < within(*e);
+                assert!(near, "{c:?}: {roots:?} against {reference:?}");
+            }
+            // Shifted up past its highest point on [0, 1]: no root.
+            let above = [c[0] + 2.0 * scale, c[1], c[2], c[3]];
+            assert_eq!(cubic_roots(above).1, 0, "{above:?}");
+        }
     }
 
     #[test]

@@ -148,7 +148,16 @@ struct Found {
     /// The pairs, or `None` where there were too many to keep
     /// ([`kept_pairs_most`]): then searched at each check.
     pairs: Option<Vec<(u32, u32, Real)>>,
+    /// Per kept pair, what the narrow phase last made of it (its
+    /// [`Stamp`]; 0: nothing yet).
+    stamps: Vec<Stamp>,
 }
+
+/// What the narrow phase last made of a kept pair of elements, for it to
+/// skip a test whose answer it has: the search it was tested in (a count
+/// its caller keeps, below 2³¹) shifted up one bit, and in that bit
+/// whether the test found a collision. 0: never tested.
+pub(super) type Stamp = u32;
 
 /// The broad phase's state, kept from step to step.
 #[derive(Debug, Clone, Default)]
@@ -181,6 +190,9 @@ pub(super) struct Sweep {
     grid: Grid,
     again: Vec<bool>,
     order: Vec<u32>,
+    /// Scratch of [`Sweep::overlaps`]: per element, the farthest its
+    /// particles strayed (m) and whether it is a loose particle.
+    slack: Vec<(Real, bool)>,
     /// The most pairs kept, where not [`kept_pairs_most`] (`None` but in
     /// the tests, which make it small to search at each check).
     allowance: Option<usize>,
@@ -300,8 +312,15 @@ impl Sweep {
                     self.moved[span].crowded = found > CROWDED * count;
                 }
                 let epochs = (self.moved[a].epoch, self.moved[b].epoch);
-                self.found
-                    .insert((a as u32, b as u32), Found { epochs, pairs });
+                let stamps = vec![0; pairs.as_ref().map_or(0, Vec::len)];
+                self.found.insert(
+                    (a as u32, b as u32),
+                    Found {
+                        epochs,
+                        pairs,
+                        stamps,
+                    },
+                );
             }
         }
         Ok(())
@@ -314,7 +333,17 @@ impl Sweep {
         // one being grown and the one it grows from are held at once: less
         // than 3 times it), then is trimmed to its length and sorted (a
         // stable sort's buffer: at most its length).
-        3 * kept_pairs_most(elements) * size_of::<(u32, u32, Real)>()
+        // The stamps: one per pair kept.
+        let kept = kept_pairs_most(elements);
+        3 * kept * size_of::<(u32, u32, Real)>() + kept * size_of::<Stamp>()
+    }
+
+    /// Forget every stamp ([`Stamp`]): for a caller whose count of
+    /// searches starts again.
+    pub fn forget_stamps(&mut self) {
+        for found in self.found.values_mut() {
+            found.stamps.fill(0);
+        }
     }
 
     /// Call `meet(a, b)` on every pair of elements that may come within
@@ -322,18 +351,30 @@ impl Sweep {
     /// bodies by pair of bodies, nearest first within each (in the grid's
     /// order where their pairs were past the allowance): its distance
     /// at the anchors, less how far its particles strayed and how far its
-    /// bodies' mean moves part, is within it.
-    pub fn overlaps(&mut self, elements: &Elements, mut meet: impl FnMut(usize, usize)) {
+    /// bodies' mean moves part, is within it. A pair of the kept lists
+    /// comes with its [`Stamp`], for `meet` to read and write; a pair of
+    /// a search at each check, with none.
+    pub fn overlaps(
+        &mut self,
+        elements: &Elements,
+        mut meet: impl FnMut(usize, usize, Option<&mut Stamp>),
+    ) {
         let (gap, balls) = self.reach;
         let furthest = gap.max(balls);
+        // Per element, the farthest any of its particles strayed (m), and
+        // whether it is a loose particle: read for every pair handed on,
+        // many times more pairs than elements.
         let stray = &self.stray;
-        let slack = |e: u32| {
-            elements.list[e as usize]
+        self.slack.clear();
+        self.slack.extend(elements.list.iter().map(|element| {
+            let most = element
                 .particles()
                 .iter()
                 .map(|&i| stray[i as usize])
-                .fold(0.0, Real::max)
-        };
+                .fold(0.0, Real::max);
+            (most, element.kind == Kind::Point(true))
+        }));
+        let slack = &self.slack;
         let anchored = Anchored {
             elements,
             boxes: &self.boxes,
@@ -341,32 +382,31 @@ impl Sweep {
             reach: self.reach,
         };
         for &(a, b) in &self.near {
-            let Some(found) = self.found.get(&(a, b)) else {
+            let Some(found) = self.found.get_mut(&(a, b)) else {
                 continue;
             };
             let (ma, mb) = (&self.moved[a as usize], &self.moved[b as usize]);
             let parting = if a == b { 0.0 } else { parting(ma, mb) };
             let bound = ma.most + mb.most + parting + furthest;
-            let mut hand_on = |p: u32, q: u32, d: Real| {
-                let closest = d - slack(p) - slack(q) - parting;
-                let (ep, eq) = (&elements.list[p as usize], &elements.list[q as usize]);
-                let reach =
-                    if a != b && ep.kind == Kind::Point(true) && eq.kind == Kind::Point(true) {
-                        balls
-                    } else {
-                        gap
-                    };
+            let mut hand_on = |p: u32, q: u32, d: Real, stamp: Option<&mut Stamp>| {
+                let ((sp, loose_p), (sq, loose_q)) = (slack[p as usize], slack[q as usize]);
+                let closest = d - sp - sq - parting;
+                let reach = if a != b && loose_p && loose_q {
+                    balls
+                } else {
+                    gap
+                };
                 if closest <= reach {
-                    meet(p as usize, q as usize);
+                    meet(p as usize, q as usize, stamp);
                 }
             };
             match &found.pairs {
                 Some(pairs) => {
-                    for &(p, q, d) in pairs {
+                    for (&(p, q, d), stamp) in pairs.iter().zip(&mut found.stamps) {
                         if d > bound {
                             break;
                         }
-                        hand_on(p, q, d);
+                        hand_on(p, q, d, Some(stamp));
                     }
                 }
                 None => {
@@ -374,7 +414,7 @@ impl Sweep {
                     let spans = (a as usize, b as usize);
                     anchored.each_pair(&mut self.grid, spans, within, |p, q, d| {
                         if d <= bound {
-                            hand_on(p, q, d);
+                            hand_on(p, q, d, None);
                         }
                         true
                     });
