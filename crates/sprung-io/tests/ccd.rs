@@ -109,15 +109,24 @@ fn a_rigid_ball_fired_at_a_cloth_held_by_rods_never_passes_through() {
     // particles their own way: a rigid ball (moved as one zone) fired at
     // 60 and 150 m/s into the pinned cloth with rods along its middle row
     // (projected in the constrain stage, before the CCD): zero
-    // crossings between bodies in every step, and the ball caught.
+    // crossings between bodies in every step, and at 60 m/s the ball
+    // caught. At 150 m/s whether the cloth, pinned at its corners only,
+    // still holds the slowed ball at the end or lets it slip out past a
+    // free edge is chaotic: 150 and 150.000001 m/s end on either side
+    // (measured: the cloth's lowest point 5.5 mm under the ball, or the
+    // ball 0.14 m under the cloth, each outcome under a CCD whose roots
+    // differ in their last bits), so there the claim is the guarantee
+    // alone, at speeds that end each way.
     let row: Vec<String> = (420..449).map(|i| format!("[{i}, {}]", i + 1)).collect();
     let rods = format!("rods = [{}]", row.join(", "));
-    for speed in [60.0, 150.0] {
+    for speed in [60.0, 150.0, 150.000001] {
         let text = bullet(speed, "symplectic_euler", 2.5e-4, &rods)
             .replace("gas = { nrt = 100.0, ramp_time = 0.0 }", "rigid = true");
         let (found, lowest) = crossings(&text);
         assert_eq!(found.between(), 0, "rigid ball at {speed} m/s: {found:?}");
-        assert!(lowest > 0.0, "rigid ball at {speed} m/s: {lowest} m");
+        if speed < 100.0 {
+            assert!(lowest > 0.0, "rigid ball at {speed} m/s: {lowest} m");
+        }
     }
 }
 
