@@ -444,15 +444,11 @@ impl Integrator for ImplicitEuler {
                     scale,
                     release,
                 )?;
-                keep(
-                    &mut self.factored_at,
-                    &mut self.factored_springs,
-                    dt,
-                    state.position,
-                    system.springs(),
-                );
             }
-            if choice == (Preconditioner::Stiffness, true) && kept {
+            // Auto keeps every factor it makes: after a missed trial, in a
+            // back-off, or where the kept one no longer fits.
+            let refactored = solved.refactorings.is_some_and(|made| made > 0);
+            if solver.preconditioner == Preconditioner::Auto && refactored {
                 keep(
                     &mut self.factored_at,
                     &mut self.factored_springs,
