@@ -190,9 +190,6 @@ pub(super) struct Sweep {
     grid: Grid,
     again: Vec<bool>,
     order: Vec<u32>,
-    /// Scratch of [`Sweep::overlaps`]: per element, the farthest its
-    /// particles strayed (m) and whether it is a loose particle.
-    slack: Vec<(Real, bool)>,
     /// The most pairs kept, where not [`kept_pairs_most`] (`None` but in
     /// the tests, which make it small to search at each check).
     allowance: Option<usize>,
@@ -361,20 +358,14 @@ impl Sweep {
     ) {
         let (gap, balls) = self.reach;
         let furthest = gap.max(balls);
-        // Per element, the farthest any of its particles strayed (m), and
-        // whether it is a loose particle: read for every pair handed on,
-        // many times more pairs than elements.
         let stray = &self.stray;
-        self.slack.clear();
-        self.slack.extend(elements.list.iter().map(|element| {
-            let most = element
+        let slack = |e: u32| {
+            elements.list[e as usize]
                 .particles()
                 .iter()
                 .map(|&i| stray[i as usize])
-                .fold(0.0, Real::max);
-            (most, element.kind == Kind::Point(true))
-        }));
-        let slack = &self.slack;
+                .fold(0.0, Real::max)
+        };
         let anchored = Anchored {
             elements,
             boxes: &self.boxes,
@@ -389,13 +380,14 @@ impl Sweep {
             let parting = if a == b { 0.0 } else { parting(ma, mb) };
             let bound = ma.most + mb.most + parting + furthest;
             let mut hand_on = |p: u32, q: u32, d: Real, stamp: Option<&mut Stamp>| {
-                let ((sp, loose_p), (sq, loose_q)) = (slack[p as usize], slack[q as usize]);
-                let closest = d - sp - sq - parting;
-                let reach = if a != b && loose_p && loose_q {
-                    balls
-                } else {
-                    gap
-                };
+                let closest = d - slack(p) - slack(q) - parting;
+                let (ep, eq) = (&elements.list[p as usize], &elements.list[q as usize]);
+                let reach =
+                    if a != b && ep.kind == Kind::Point(true) && eq.kind == Kind::Point(true) {
+                        balls
+                    } else {
+                        gap
+                    };
                 if closest <= reach {
                     meet(p as usize, q as usize, stamp);
                 }
